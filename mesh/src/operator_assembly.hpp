@@ -2,6 +2,7 @@
 // Internal to spinmotor_mesh (not installed): input checks and the parallel assembly of n×n vertex
 // operators from per-face 3×3 element matrices, shared by the operator sources.
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // cross products
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <limits>
