@@ -1,0 +1,341 @@
+#include "spinmotor/mesh/validate.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+#include <vector>
+
+#include "spinmotor/error.hpp"
+#include "spinmotor/mesh/topology.hpp"
+
+namespace spinmotor {
+namespace {
+
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  }
+  void unite(int a, int b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+std::string plural(Eigen::Index n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+std::string edge_str(const std::array<int, 2>& e) {
+  std::string s(1, '(');  // appended piecewise: GCC 12 warns falsely (-Wrestrict) on "(" + std::string
+  s += std::to_string(e[0]);
+  s += ", ";
+  s += std::to_string(e[1]);
+  s += ')';
+  return s;
+}
+
+std::string num_str(double x) {
+  std::ostringstream s;
+  s.precision(6);
+  s << x;
+  return s.str();
+}
+
+void check_structure(const Mesh& mesh) {
+  if (mesh.V.size() > 0 && mesh.V.cols() != 3)
+    throw Error("invalid mesh: V has " + std::to_string(mesh.V.cols()) + " columns, expected 3");
+  if (mesh.F.size() > 0 && mesh.F.cols() != 3)
+    throw Error("invalid mesh: F has " + std::to_string(mesh.F.cols()) + " columns, expected 3 (triangles)");
+  const Eigen::Index n = mesh.V.rows();
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    for (int c = 0; c < 3; ++c)
+      if (mesh.F(f, c) < 0 || mesh.F(f, c) >= n)
+        throw Error("invalid mesh: face " + std::to_string(f) + " references vertex " +
+                    std::to_string(mesh.F(f, c)) + ", but the mesh has " + std::to_string(n) + " vertices");
+}
+
+}  // namespace
+
+MeshReport validate(const Mesh& mesh) {
+  check_structure(mesh);
+  const Eigen::MatrixXd& V = mesh.V;
+  const Eigen::MatrixXi& F = mesh.F;
+  const Eigen::Index n = V.rows(), m = F.rows();
+  MeshReport r;
+  r.vertices = n;
+  r.faces = m;
+
+  // ---- vertices: non-finite, unreferenced, duplicates ----
+  std::vector<char> finite(static_cast<std::size_t>(n), 1), referenced(static_cast<std::size_t>(n), 0);
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (!V.row(v).allFinite()) {
+      finite[v] = 0;
+      if (r.nonfinite_vertices++ == 0) r.first_nonfinite_vertex = static_cast<int>(v);
+    }
+  for (Eigen::Index i = 0; i < F.size(); ++i) referenced[F.data()[i]] = 1;
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (!referenced[v] && r.unreferenced_vertices++ == 0) r.first_unreferenced_vertex = static_cast<int>(v);
+  {
+    std::vector<int> order;
+    order.reserve(static_cast<std::size_t>(n));
+    for (Eigen::Index v = 0; v < n; ++v)
+      if (finite[v]) order.push_back(static_cast<int>(v));
+    auto less = [&](int a, int b) {  // lexicographic; -0.0 == 0.0, ties by index
+      for (int k = 0; k < 3; ++k)
+        if (V(a, k) != V(b, k)) return V(a, k) < V(b, k);
+      return a < b;
+    };
+    std::sort(order.begin(), order.end(), less);
+    for (std::size_t i = 1, group = 0; i < order.size(); ++i) {
+      if (V.row(order[i]) != V.row(order[group])) {
+        group = i;
+        continue;
+      }
+      ++r.duplicate_vertices;  // order[group] is the lowest index of this position
+      if (r.first_duplicate_vertex < 0 || order[i] < r.first_duplicate_vertex) {
+        r.first_duplicate_vertex = order[i];
+        r.first_duplicate_of = order[group];
+      }
+    }
+  }
+
+  // ---- faces: proper faces, areas, degenerate ----
+  std::vector<int> proper;  // indices of faces with three distinct vertices
+  proper.reserve(static_cast<std::size_t>(m));
+  Eigen::VectorXd area = Eigen::VectorXd::Constant(m, std::nan(""));
+  double area_sum = 0;
+  Eigen::Index area_count = 0;
+  for (Eigen::Index f = 0; f < m; ++f) {
+    const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
+    if (a == b || b == c || c == a) continue;
+    proper.push_back(static_cast<int>(f));
+    if (!finite[a] || !finite[b] || !finite[c]) continue;
+    const Eigen::Vector3d e1 = V.row(b) - V.row(a), e2 = V.row(c) - V.row(a);
+    area[f] = 0.5 * e1.cross(e2).norm();
+    area_sum += area[f];
+    ++area_count;
+  }
+  r.mean_face_area = area_count ? area_sum / static_cast<double>(area_count) : 0.0;
+  const double area_floor = kDegenerateAreaRatio * r.mean_face_area;
+  for (Eigen::Index f = 0; f < m; ++f) {
+    const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
+    const bool repeated = a == b || b == c || c == a;
+    if (repeated || area[f] <= area_floor) {  // NaN area (non-finite corner) compares false
+      if (r.degenerate_faces++ == 0) {
+        r.first_degenerate_face = static_cast<int>(f);
+        r.first_degenerate_area = repeated ? 0.0 : area[f];
+      }
+    }
+  }
+
+  // ---- edges of proper faces: boundary, non-manifold, orientation ----
+  Eigen::MatrixXi Fp(static_cast<Eigen::Index>(proper.size()), 3);
+  for (std::size_t i = 0; i < proper.size(); ++i) Fp.row(static_cast<Eigen::Index>(i)) = F.row(proper[i]);
+  const EdgeTopology t = edge_topology(Fp);
+  r.edges = t.num_edges();
+  std::vector<char> on_nm_edge(static_cast<std::size_t>(n), 0);
+  // Direction of edge e in face f: +1 if the face runs E(e,0) -> E(e,1).
+  auto direction = [&](int f, Eigen::Index e) {
+    for (int c = 0; c < 3; ++c)
+      if (t.FE(f, c) == e) return Fp(f, (c + 1) % 3) == t.E(e, 0) ? 1 : -1;
+    return 0;
+  };
+  UnionFind corners(static_cast<std::size_t>(3 * Fp.rows()));  // fans: corners joined across manifold edges
+  auto corner_of = [&](int f, int v) {
+    for (int c = 0; c < 3; ++c)
+      if (Fp(f, c) == v) return 3 * f + c;
+    return -1;
+  };
+  for (Eigen::Index e = 0; e < t.num_edges(); ++e) {
+    const int val = t.valence(e);
+    const std::array<int, 2> ab{t.E(e, 0), t.E(e, 1)};
+    if (val == 1) {
+      if (r.boundary_edges++ == 0) r.first_boundary_edge = ab;
+    } else if (val > 2) {
+      on_nm_edge[ab[0]] = on_nm_edge[ab[1]] = 1;
+      if (r.non_manifold_edges++ == 0) {
+        r.first_non_manifold_edge = ab;
+        r.non_manifold_edge_faces = val;
+      }
+    } else {
+      const int f0 = t.EF_face[t.EF_offset[e]], f1 = t.EF_face[t.EF_offset[e] + 1];
+      if (direction(f0, e) == direction(f1, e) && r.inconsistent_orientation++ == 0) {
+        r.first_inconsistent_edge = ab;
+        r.inconsistent_edge_faces = {proper[f0], proper[f1]};
+      }
+      for (int v : ab) corners.unite(corner_of(f0, v), corner_of(f1, v));
+    }
+  }
+
+  // ---- non-manifold vertices: more than one fan ----
+  {
+    // Distinct fan roots per vertex: sort the (vertex, root) pairs.
+    std::vector<int> fans(static_cast<std::size_t>(n), 0);
+    std::vector<std::pair<int, int>> vr;
+    vr.reserve(static_cast<std::size_t>(3 * Fp.rows()));
+    for (Eigen::Index f = 0; f < Fp.rows(); ++f)
+      for (int c = 0; c < 3; ++c) vr.emplace_back(Fp(f, c), corners.find(static_cast<int>(3 * f + c)));
+    std::sort(vr.begin(), vr.end());
+    vr.erase(std::unique(vr.begin(), vr.end()), vr.end());
+    for (const auto& [v, root] : vr) ++fans[v];
+    for (Eigen::Index v = 0; v < n; ++v)
+      if (fans[v] > 1 && !on_nm_edge[v] && r.non_manifold_vertices++ == 0) {
+        r.first_non_manifold_vertex = static_cast<int>(v);
+        r.non_manifold_vertex_fans = fans[v];
+      }
+  }
+
+  // ---- components, Euler characteristic, boundary loops, genus ----
+  int nlabels = 0;
+  const Eigen::VectorXi label = vertex_components(F, n, &nlabels);
+  std::vector<int> comp_id(static_cast<std::size_t>(nlabels), -1);  // label -> component among referenced
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (referenced[v] && comp_id[label[v]] < 0) comp_id[label[v]] = r.components++;
+  std::vector<long long> chi(static_cast<std::size_t>(r.components), 0);
+  std::vector<int> loops_in(static_cast<std::size_t>(r.components), 0);
+  Eigen::Index nref = 0;
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (referenced[v]) {
+      ++nref;
+      ++chi[comp_id[label[v]]];
+    }
+  for (Eigen::Index e = 0; e < t.num_edges(); ++e) --chi[comp_id[label[t.E(e, 0)]]];
+  for (Eigen::Index f = 0; f < Fp.rows(); ++f) ++chi[comp_id[label[Fp(f, 0)]]];
+  r.euler_characteristic = static_cast<long long>(nref) - r.edges + Fp.rows();
+  const auto loops = boundary_loops(Fp);
+  r.boundary_loops = static_cast<int>(loops.size());
+  for (const auto& loop : loops) ++loops_in[comp_id[label[loop.front()]]];
+
+  if (m == 0) {
+    r.genus_note = "the mesh has no faces";
+  } else if (!r.is_manifold()) {
+    r.genus_note = "not a manifold";
+  } else if (!r.is_oriented()) {
+    r.genus_note = "not consistently oriented";
+  } else if (static_cast<Eigen::Index>(proper.size()) != m) {
+    r.genus_note = "faces with a repeated vertex index";
+  } else {
+    long long g = 0;
+    for (int c = 0; c < r.components; ++c) {
+      const long long twice = 2 - chi[c] - loops_in[c];
+      if (twice < 0 || twice % 2 != 0) {
+        g = -1;
+        r.genus_note =
+            "component " + std::to_string(c) + " has 2 - chi - boundary loops = " + std::to_string(twice);
+        break;
+      }
+      g += twice / 2;
+    }
+    r.genus = static_cast<int>(g);
+  }
+  return r;
+}
+
+std::string MeshReport::defects_summary() const {
+  std::vector<std::string> s;
+  if (nonfinite_vertices)
+    s.push_back(plural(nonfinite_vertices, "non-finite vertex", "non-finite vertices") + ": vertex " +
+                std::to_string(first_nonfinite_vertex) + " has a NaN or infinite coordinate");
+  if (non_manifold_edges)
+    s.push_back(plural(non_manifold_edges, "non-manifold edge", "non-manifold edges") + ": edge " +
+                edge_str(first_non_manifold_edge) + " is shared by " +
+                std::to_string(non_manifold_edge_faces) + " faces");
+  if (non_manifold_vertices)
+    s.push_back(plural(non_manifold_vertices, "non-manifold vertex", "non-manifold vertices") + ": vertex " +
+                std::to_string(first_non_manifold_vertex) + " joins " +
+                std::to_string(non_manifold_vertex_fans) + " separate fans of faces");
+  if (inconsistent_orientation)
+    s.push_back(
+        plural(inconsistent_orientation, "inconsistently oriented edge", "inconsistently oriented edges") +
+        ": faces " + std::to_string(inconsistent_edge_faces[0]) + " and " +
+        std::to_string(inconsistent_edge_faces[1]) + " both traverse edge " +
+        edge_str(first_inconsistent_edge) + " in the same direction");
+  if (degenerate_faces)
+    s.push_back(plural(degenerate_faces, "degenerate face", "degenerate faces") + ": face " +
+                std::to_string(first_degenerate_face) +
+                (first_degenerate_area == 0 ? std::string(" has zero area")
+                                            : " has area " + num_str(first_degenerate_area)) +
+                " (mean face area " + num_str(mean_face_area) + ")");
+  if (duplicate_vertices)
+    s.push_back(plural(duplicate_vertices, "duplicate vertex", "duplicate vertices") + ": vertex " +
+                std::to_string(first_duplicate_vertex) + " has the same coordinates as vertex " +
+                std::to_string(first_duplicate_of));
+  if (unreferenced_vertices)
+    s.push_back(plural(unreferenced_vertices, "unreferenced vertex", "unreferenced vertices") + ": vertex " +
+                std::to_string(first_unreferenced_vertex) + " is in no face");
+  std::string out;
+  for (const auto& x : s) out += (out.empty() ? "" : "; ") + x;
+  return out;
+}
+
+void require(const MeshReport& r, const Requirements& req, std::string_view operation) {
+  const std::string op(operation);
+  auto fail = [&](const std::string& needs, const std::string& why) {
+    throw Error(op + " needs " + needs + ": " + why);
+  };
+  if (r.faces < req.min_faces)
+    fail("at least " + plural(req.min_faces, "face", "faces"), "the mesh has " + std::to_string(r.faces));
+  if (req.finite && r.nonfinite_vertices)
+    fail("finite vertex coordinates", "vertex " + std::to_string(r.first_nonfinite_vertex) +
+                                          " has a NaN or infinite coordinate (" +
+                                          plural(r.nonfinite_vertices, "such vertex", "such vertices") + ")");
+  if ((req.manifold || req.genus0) && r.non_manifold_edges)
+    fail("a manifold mesh", "edge " + edge_str(r.first_non_manifold_edge) + " is shared by " +
+                                std::to_string(r.non_manifold_edge_faces) + " faces (" +
+                                plural(r.non_manifold_edges, "non-manifold edge", "non-manifold edges") +
+                                ")");
+  if ((req.manifold || req.genus0) && r.non_manifold_vertices)
+    fail("a manifold mesh",
+         "vertex " + std::to_string(r.first_non_manifold_vertex) + " joins " +
+             std::to_string(r.non_manifold_vertex_fans) + " separate fans of faces (" +
+             plural(r.non_manifold_vertices, "non-manifold vertex", "non-manifold vertices") + ")");
+  if ((req.oriented || req.genus0) && r.inconsistent_orientation)
+    fail("consistently oriented faces", "faces " + std::to_string(r.inconsistent_edge_faces[0]) + " and " +
+                                            std::to_string(r.inconsistent_edge_faces[1]) +
+                                            " both traverse edge " + edge_str(r.first_inconsistent_edge) +
+                                            " in the same direction");
+  if (req.no_degenerate && r.degenerate_faces)
+    fail("non-degenerate faces",
+         "face " + std::to_string(r.first_degenerate_face) +
+             (r.first_degenerate_area == 0 ? std::string(" has zero area")
+                                           : " has area " + num_str(r.first_degenerate_area)) +
+             " (mean face area " + num_str(r.mean_face_area) + "; " +
+             plural(r.degenerate_faces, "degenerate face", "degenerate faces") + ")");
+  if (req.closed && r.boundary_edges)
+    fail("a closed mesh", "edge " + edge_str(r.first_boundary_edge) + " is on a boundary (" +
+                              plural(r.boundary_edges, "boundary edge", "boundary edges") + " in " +
+                              plural(r.boundary_loops, "loop", "loops") + ")");
+  if (req.single_component && r.components != 1)
+    fail("a single connected component", "the mesh has " + std::to_string(r.components));
+  if (req.genus0 && r.genus != 0)
+    fail("a genus-0 surface", r.genus < 0 ? "the genus is not defined (" + r.genus_note + ")"
+                                          : "the mesh has genus " + std::to_string(r.genus));
+  if (req.no_unreferenced && r.unreferenced_vertices)
+    fail("every vertex in a face",
+         "vertex " + std::to_string(r.first_unreferenced_vertex) + " is in no face (" +
+             plural(r.unreferenced_vertices, "unreferenced vertex", "unreferenced vertices") +
+             "; remove_unreferenced_vertices() drops them)");
+  if (req.no_duplicates && r.duplicate_vertices)
+    fail("distinct vertex positions",
+         "vertex " + std::to_string(r.first_duplicate_vertex) + " has the same coordinates as vertex " +
+             std::to_string(r.first_duplicate_of) + " (merge_duplicate_vertices() merges them)");
+}
+
+MeshReport require(const Mesh& mesh, const Requirements& req, std::string_view operation) {
+  MeshReport r;
+  try {
+    r = validate(mesh);
+  } catch (const Error& e) {
+    throw Error(std::string(operation) + ": " + e.what());
+  }
+  require(r, req, operation);
+  return r;
+}
+
+}  // namespace spinmotor
