@@ -1,0 +1,26 @@
+#include "spinmotor/mesh/metrics/willmore.hpp"
+
+#include "spinmotor/mesh/cotangent_laplacian.hpp"
+#include "spinmotor/mesh/mass_matrix.hpp"
+#include "unique_edges.hpp"
+
+namespace spinmotor {
+
+Eigen::VectorXd willmore_density(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  const Eigen::SparseMatrix<double> L = cotangent_laplacian(V, F);  // validates V and F
+  const Eigen::VectorXd A = vertex_areas(V, F, MassType::Voronoi);
+  const Eigen::MatrixXd LV = L * V;  // (L V)_i ≈ 2 H_i N_i A_i
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(V.rows());
+  for (Eigen::Index i = 0; i < V.rows(); ++i)
+    if (A[i] > 0) w[i] = LV.row(i).squaredNorm() / (4.0 * A[i]);  // H_i² A_i
+  const detail::UniqueEdges u = detail::unique_edges(F, V.rows());
+  for (Eigen::Index e = 0; e < u.E.rows(); ++e)
+    if (u.faces[e] == 1) w[u.E(e, 0)] = w[u.E(e, 1)] = 0.0;  // boundary vertex
+  return w;
+}
+
+double willmore_energy(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  return willmore_density(V, F).sum();
+}
+
+}  // namespace spinmotor
