@@ -208,9 +208,27 @@ MeshReport validate(const Mesh& mesh) {
   for (Eigen::Index e = 0; e < t.num_edges(); ++e) --chi[comp_id[label[t.E(e, 0)]]];
   for (Eigen::Index f = 0; f < Fp.rows(); ++f) ++chi[comp_id[label[Fp(f, 0)]]];
   r.euler_characteristic = static_cast<long long>(nref) - r.edges + Fp.rows();
-  const auto loops = boundary_loops(Fp);
-  r.boundary_loops = static_cast<int>(loops.size());
-  for (const auto& loop : loops) ++loops_in[comp_id[label[loop.front()]]];
+  // Boundary loops, counted without following face orientation (so the single boundary circle of a
+  // Möbius band is one loop): each connected piece of the boundary-edge graph is one loop, plus one
+  // more for every further pair of boundary edges at a pinched vertex (a figure eight is two loops).
+  // On an oriented manifold this equals boundary_loops() of topology.hpp.
+  {
+    std::vector<int> bdeg(static_cast<std::size_t>(n), 0);
+    UnionFind bgraph(static_cast<std::size_t>(n));
+    for (Eigen::Index e = 0; e < t.num_edges(); ++e)
+      if (t.valence(e) == 1) {
+        ++bdeg[t.E(e, 0)];
+        ++bdeg[t.E(e, 1)];
+        bgraph.unite(t.E(e, 0), t.E(e, 1));
+      }
+    for (Eigen::Index v = 0; v < n; ++v) {
+      if (bdeg[v] == 0) continue;
+      const int extra = bgraph.find(static_cast<int>(v)) == v ? 1 : 0;  // one per piece, at its root
+      const int pinch = std::max(0, bdeg[v] / 2 - 1);
+      r.boundary_loops += extra + pinch;
+      loops_in[comp_id[label[v]]] += extra + pinch;
+    }
+  }
 
   if (m == 0) {
     r.genus_note = "the mesh has no faces";

@@ -8,8 +8,11 @@
 //   proper face            a face with three distinct vertex indices. Topology (edges, boundary,
 //                          manifoldness, orientation, Euler characteristic) is computed on proper
 //                          faces; a face repeating an index is only counted as degenerate.
-//   boundary edge          an edge of one proper face. Boundary loops: closed walks along boundary
-//                          edges (topology.hpp). Boundaries are properties, not defects.
+//   boundary edge          an edge of one proper face. Boundaries are properties, not defects.
+//   boundary loops         connected pieces of the boundary-edge graph, plus one per extra pair of
+//                          boundary edges at a pinched vertex (a figure eight is two loops). Counted
+//                          without face orientation, so a Möbius band has one loop; on an oriented
+//                          manifold this is boundary_loops() of topology.hpp.
 //   non-manifold edge      an edge of three or more proper faces.
 //   non-manifold vertex    a vertex not on a non-manifold edge whose incident faces form more than
 //                          one fan (faces linked across the manifold edges at the vertex): two
