@@ -48,24 +48,31 @@ double triangle_sq_distance(const Vec3& p, const Vec3& a, const Vec3& b, const V
   return (a + ab * (vb * denom) + ac * (vc * denom) - p).squaredNorm();
 }
 
-// Bounding-volume hierarchy over the triangles: a node covers tri[begin, end); leaves hold ≤ 4.
+// Bounding-volume hierarchy over the triangles: a node covers the packed triangles [begin, end);
+// leaves hold ≤ 4. Triangles are split at the median centroid along the widest centroid extent, and
+// their corners are stored contiguously in tree order so that a leaf is one cache-friendly read.
 class TriangleTree {
  public:
-  TriangleTree(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) : V_(V), F_(F) {
-    const Eigen::Index m = F.rows();
-    tri_.resize(static_cast<size_t>(m));
-    std::iota(tri_.begin(), tri_.end(), 0);
-    centroid_.resize(m, 3);
-    for (Eigen::Index f = 0; f < m; ++f)
-      centroid_.row(f) = (V.row(F(f, 0)) + V.row(F(f, 1)) + V.row(F(f, 2))) / 3.0;
+  TriangleTree(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+    const int m = static_cast<int>(F.rows());
+    std::vector<Item> items(static_cast<size_t>(m));
+    for (int f = 0; f < m; ++f)
+      items[f] = {(V.row(F(f, 0)) + V.row(F(f, 1)) + V.row(F(f, 2))).transpose() / 3.0, f};
     nodes_.reserve(static_cast<size_t>(2 * m / kLeaf + 2));
-    build(0, static_cast<int>(m));
+    build(items, 0, m);
+    face_.resize(static_cast<size_t>(m));
+    corners_.resize(static_cast<size_t>(m));
+    for (int k = 0; k < m; ++k) {
+      face_[k] = items[k].face;
+      for (int c = 0; c < 3; ++c) corners_[k][c] = V.row(F(items[k].face, c)).transpose();
+    }
+    fit_boxes(0);
   }
 
   // Squared distance from p to the surface and the closest face.
   std::pair<double, int> nearest(const Vec3& p) const {
     double best = std::numeric_limits<double>::infinity();
-    int best_face = -1;
+    int best_k = -1;
     // Median splits keep the depth ≤ log2(m) + 1 ≤ 32, and the stack holds at most one pending
     // sibling per level plus the current pair: 128 entries suffice for any int-indexed mesh.
     std::array<int, 128> stack;
@@ -76,9 +83,8 @@ class TriangleTree {
       if (box_sq_distance(nd, p) >= best) continue;
       if (nd.left < 0) {
         for (int k = nd.begin; k < nd.end; ++k) {
-          const int f = tri_[k];
-          const double d = triangle_sq_distance(p, V_.row(F_(f, 0)), V_.row(F_(f, 1)), V_.row(F_(f, 2)));
-          if (d < best) best = d, best_face = f;
+          const double d = triangle_sq_distance(p, corners_[k][0], corners_[k][1], corners_[k][2]);
+          if (d < best) best = d, best_k = k;
         }
         continue;
       }
@@ -88,13 +94,17 @@ class TriangleTree {
       stack[top++] = second;
       stack[top++] = first;
     }
-    return {best, best_face};
+    return {best, best_k < 0 ? -1 : face_[best_k]};
   }
 
  private:
   static constexpr int kLeaf = 4;
+  struct Item {
+    Vec3 centroid;
+    int face;
+  };
   struct Node {
-    Eigen::Vector3d lo, hi;
+    Vec3 lo, hi;
     int begin, end, left = -1, right = -1;
   };
 
@@ -102,42 +112,51 @@ class TriangleTree {
     return (nd.lo - p).cwiseMax(p - nd.hi).cwiseMax(0.0).squaredNorm();
   }
 
-  int build(int begin, int end) {
+  int build(std::vector<Item>& items, int begin, int end) {
     const int id = static_cast<int>(nodes_.size());
     nodes_.push_back({});
-    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-    Vec3 clo = lo, chi = hi;
-    for (int k = begin; k < end; ++k) {
-      const int f = tri_[k];
-      for (int c = 0; c < 3; ++c) {
-        lo = lo.cwiseMin(V_.row(F_(f, c)).transpose());
-        hi = hi.cwiseMax(V_.row(F_(f, c)).transpose());
-      }
-      clo = clo.cwiseMin(centroid_.row(f).transpose());
-      chi = chi.cwiseMax(centroid_.row(f).transpose());
-    }
-    nodes_[id].lo = lo;
-    nodes_[id].hi = hi;
     nodes_[id].begin = begin;
     nodes_[id].end = end;
     if (end - begin <= kLeaf) return id;
+    Vec3 lo = items[begin].centroid, hi = lo;
+    for (int k = begin + 1; k < end; ++k) {
+      lo = lo.cwiseMin(items[k].centroid);
+      hi = hi.cwiseMax(items[k].centroid);
+    }
     int axis;
-    (chi - clo).maxCoeff(&axis);
+    (hi - lo).maxCoeff(&axis);
     const int mid = begin + (end - begin) / 2;
-    std::nth_element(tri_.begin() + begin, tri_.begin() + mid, tri_.begin() + end,
-                     [&](int a, int b) { return centroid_(a, axis) < centroid_(b, axis); });
-    const int left = build(begin, mid);
-    const int right = build(mid, end);
+    std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
+                     [axis](const Item& a, const Item& b) { return a.centroid[axis] < b.centroid[axis]; });
+    const int left = build(items, begin, mid);
+    const int right = build(items, mid, end);
     nodes_[id].left = left;
     nodes_[id].right = right;
     return id;
   }
 
-  const Eigen::MatrixXd& V_;
-  const Eigen::MatrixXi& F_;
-  std::vector<int> tri_;
-  Eigen::MatrixXd centroid_;
+  // Boxes bottom-up: a leaf bounds its triangles, an inner node its two children.
+  void fit_boxes(int id) {
+    Node& nd = nodes_[id];
+    if (nd.left < 0) {
+      nd.lo = corners_[nd.begin][0];
+      nd.hi = nd.lo;
+      for (int k = nd.begin; k < nd.end; ++k)
+        for (int c = 0; c < 3; ++c) {
+          nd.lo = nd.lo.cwiseMin(corners_[k][c]);
+          nd.hi = nd.hi.cwiseMax(corners_[k][c]);
+        }
+      return;
+    }
+    fit_boxes(nd.left);
+    fit_boxes(nd.right);
+    nd.lo = nodes_[nd.left].lo.cwiseMin(nodes_[nd.right].lo);
+    nd.hi = nodes_[nd.left].hi.cwiseMax(nodes_[nd.right].hi);
+  }
+
   std::vector<Node> nodes_;
+  std::vector<int> face_;                     // face index of each packed triangle
+  std::vector<std::array<Vec3, 3>> corners_;  // packed triangle corners, tree order
 };
 
 void check_surface(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const char* who, const char* name) {

@@ -9,7 +9,8 @@ namespace spinmotor {
 Eigen::VectorXd willmore_density(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
   const Eigen::SparseMatrix<double> L = cotangent_laplacian(V, F);  // validates V and F
   const Eigen::VectorXd A = vertex_areas(V, F, MassType::Voronoi);
-  const Eigen::MatrixXd LV = L * V;  // (L V)_i ≈ 2 H_i N_i A_i
+  // W = ∫ H² dA (Crane et al. 2011, §7.3); (L V)_i ≈ 2 H_i N_i A_i (Meyer et al. 2003, eq. 8)
+  const Eigen::MatrixXd LV = L * V;
   Eigen::VectorXd w = Eigen::VectorXd::Zero(V.rows());
   for (Eigen::Index i = 0; i < V.rows(); ++i)
     if (A[i] > 0) w[i] = LV.row(i).squaredNorm() / (4.0 * A[i]);  // H_i² A_i
