@@ -1,0 +1,68 @@
+#pragma once
+// spinmotor/ga/interop.hpp — motors <-> Eigen isometries, unit dual quaternions, fast point transform.
+//
+// A motor M = R + U inf (R the rotor, U = u + q I3) is the unit dual quaternion q_r + ε q_d with
+//   q_r = (M_s, -M_e23, -M_e31, -M_e12)         (the rotor as a quaternion, see quaternion.hpp)
+//   q_d = (-M_e123∞, -M_e1∞, -M_e2∞, -M_e3∞)    (ε = -I3 inf)
+// and the standard convention q_d = ½ t q_r for "rotate by q_r, then translate by t".
+#include <Eigen/Geometry>
+#include <string>
+#include <utility>
+
+#include "spinmotor/ga/motor.hpp"
+
+namespace spinmotor::ga {
+
+/// The rotor part of a motor as a quaternion (the real part of its dual quaternion).
+inline Quat rotor_part(const Mot& m) { return Quat(m[0], -m[3], -m[2], -m[1]); }
+
+/// The dual part of a motor's dual quaternion, q_d = ½ t q_r.
+inline Quat dual_part(const Mot& m) { return Quat(-m[7], -m[4], -m[5], -m[6]); }
+
+/// The translation t of a unit motor (applied after its rotation): t = 2 vec(q_d q̄_r).
+inline Eigen::Vector3d translation(const Mot& m) {
+  const double w = m[0], rx = -m[3], ry = -m[2], rz = -m[1];
+  const double d0 = -m[7], dx = -m[4], dy = -m[5], dz = -m[6];
+  // 2 (w d - d0 r + r × d)
+  return {2.0 * (w * dx - d0 * rx + ry * dz - rz * dy), 2.0 * (w * dy - d0 * ry + rz * dx - rx * dz),
+          2.0 * (w * dz - d0 * rz + rx * dy - ry * dx)};
+}
+
+/// The point M x ~M for a unit motor M (rotate by the rotor part, add the translation).
+inline Eigen::Vector3d transform(const Mot& m, const Eigen::Vector3d& x) {
+  return rotate(rotor_part(m), x) + translation(m);
+}
+
+/// (real, dual) unit dual quaternion of a motor, dual = ½ t real.
+inline std::pair<Eigen::Quaterniond, Eigen::Quaterniond> to_dual_quaternion(const Mot& m) {
+  return {to_quaterniond(rotor_part(m)), to_quaterniond(dual_part(m))};
+}
+
+/// The motor of a dual quaternion real + ε dual (inverse of to_dual_quaternion; not normalised).
+inline Mot from_dual_quaternion(const Eigen::Quaterniond& real, const Eigen::Quaterniond& dual) {
+  return Mot(real.w(), -real.z(), -real.y(), -real.x(), -dual.x(), -dual.y(), -dual.z(), -dual.w());
+}
+
+/// The motor of a rigid motion x ↦ L x + t. Throws std::invalid_argument when L is not a rotation
+/// (|LᵀL - I| > 1e-6 or det L ≤ 0) or an entry is not finite.
+inline Mot from_isometry(const Eigen::Isometry3d& iso) {
+  const Eigen::Matrix3d l = iso.linear();
+  const Eigen::Vector3d t = iso.translation();
+  if (!l.allFinite() || !t.allFinite()) throw std::invalid_argument("ga::from_isometry: non-finite entry");
+  const double orth = (l.transpose() * l - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  if (orth > 1e-6 || l.determinant() <= 0.0)
+    throw std::invalid_argument("ga::from_isometry: the linear part is not a rotation (|LᵀL - I| = " +
+                                std::to_string(orth) + ", det = " + std::to_string(l.determinant()) + ")");
+  const Quat r = from_quaterniond(Eigen::Quaterniond(l).normalized());
+  return motor(r, translator(t));
+}
+
+/// The rigid motion of a motor (its rotor part is normalised first).
+inline Eigen::Isometry3d to_isometry(const Mot& m) {
+  Eigen::Isometry3d iso = Eigen::Isometry3d::Identity();
+  iso.linear() = to_quaterniond(rotor_part(m)).normalized().toRotationMatrix();
+  iso.translation() = translation(m);
+  return iso;
+}
+
+}  // namespace spinmotor::ga
