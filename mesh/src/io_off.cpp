@@ -5,6 +5,7 @@
 // emits: the header keyword, then "nv nf ne", then nv vertex lines whose first three numbers are
 // x y z (colours, normals or texture values after them are skipped), then nf face lines
 // "k i1 ... ik [colour]". '#' starts a comment. Binary OFF is not supported.
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -61,8 +62,9 @@ Mesh read_off(const fs::path& path) {
   const long long nf = parse_count(path, lines.line_number(), tok[first + 1], "faces");
 
   Soup s;
-  s.V.reserve(static_cast<std::size_t>(3 * nv));
-  s.F.reserve(static_cast<std::size_t>(3 * nf));
+  // Every element takes at least one byte: never trust a (corrupt) header beyond the file size.
+  s.V.reserve(3 * std::min<std::size_t>(static_cast<std::size_t>(nv), bytes.size()));
+  s.F.reserve(3 * std::min<std::size_t>(static_cast<std::size_t>(nf), bytes.size()));
   for (long long i = 0; i < nv; ++i) {
     if (!next_tokens())
       fail(path, lines.line_number(),

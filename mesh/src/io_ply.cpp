@@ -5,6 +5,7 @@
 // This reader parses the header into elements and properties, reads `vertex` x, y, z of any scalar
 // type as double and `face` vertex_indices (or vertex_index) lists of any integer type, and skips
 // every other property and element (lists included). ASCII elements are read one per line.
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <cstring>
@@ -217,8 +218,9 @@ Mesh read_ply(const fs::path& path) {
     fail(path, 0, "the face 'vertex_indices' list has a non-integer item type");
 
   Soup s;
-  s.V.reserve(static_cast<std::size_t>(3 * vertex_el->count));
-  s.F.reserve(static_cast<std::size_t>(3 * face_el->count));
+  // Every element takes at least one byte: never trust a (corrupt) header beyond the file size.
+  s.V.reserve(3 * std::min<std::size_t>(static_cast<std::size_t>(vertex_el->count), bytes.size()));
+  s.F.reserve(3 * std::min<std::size_t>(static_cast<std::size_t>(face_el->count), bytes.size()));
   std::vector<double> values;  // the current element's values of interest
   std::vector<long long> poly;
   // Adds face f's polygon, fan-triangulated; ln is its line (ASCII) or 0 (binary).
