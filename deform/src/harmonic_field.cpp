@@ -1,0 +1,68 @@
+#include "spinmotor/deform/harmonic_field.hpp"
+
+#include <string>
+#include <vector>
+
+#include "spinmotor/error.hpp"
+#include "spinmotor/mesh/cotangent_laplacian.hpp"
+#include "spinmotor/mesh/dirichlet_solver.hpp"
+#include "spinmotor/mesh/mean_value_laplacian.hpp"
+
+namespace spinmotor {
+
+const char* to_string(HarmonicWeights w) { return w == HarmonicWeights::MeanValue ? "mean-value" : "cotan"; }
+
+namespace {
+
+/// Solves L X = 0 with X(constrained(r), :) = values(r, :): one factorization for all columns.
+Eigen::MatrixXd solve_dirichlet(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                const Eigen::VectorXi& constrained, const Eigen::MatrixXd& values,
+                                HarmonicWeights weights, const char* who) {
+  // Row i of either Laplacian is the equation of vertex i (eq. 14 times Σ_j w_ij).
+  const bool mv = weights == HarmonicWeights::MeanValue;
+  const Eigen::SparseMatrix<double> L = mv ? mean_value_laplacian(V, F) : cotangent_laplacian(V, F);
+  DirichletSolver solver;
+  try {
+    solver.bind(L, constrained, mv ? DirichletSolver::Kind::LU : DirichletSolver::Kind::SPD);
+  } catch (const Error& e) {
+    // DirichletSolver names the component in the matrix graph, which is the mesh's vertex graph.
+    throw Error(std::string(who) + " (" + to_string(weights) + " weights): " + e.what(), e.kind());
+  }
+  return solver.solve(values);
+}
+
+}  // namespace
+
+Eigen::MatrixXd harmonic_coordinates(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                     std::span<const Handle> handles, HarmonicWeights weights) {
+  const char* who = "harmonic_coordinates";
+  if (handles.empty()) throw Error(std::string(who) + ": needs at least one handle");
+  check_handles(handles, V.rows(), who);
+  Eigen::Index c = 0;
+  for (const Handle& h : handles) c += h.vertices.size();
+  Eigen::VectorXi constrained(c);
+  Eigen::MatrixXd values = Eigen::MatrixXd::Zero(c, static_cast<Eigen::Index>(handles.size()));
+  Eigen::Index r = 0;
+  for (std::size_t j = 0; j < handles.size(); ++j)
+    for (Eigen::Index k = 0; k < handles[j].vertices.size(); ++k, ++r) {
+      constrained[r] = handles[j].vertices[k];
+      values(r, static_cast<Eigen::Index>(j)) = 1.0;  // §IV: 1 on H_j, 0 on every other handle
+    }
+  return solve_dirichlet(V, F, constrained, values, weights, who);
+}
+
+Eigen::VectorXd harmonic_field(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Handle& zero,
+                               const Handle& one, HarmonicWeights weights) {
+  const char* who = "harmonic_field";
+  const Handle sets[2] = {zero, one};
+  check_handles(sets, V.rows(), who);
+  const Eigen::Index nz = zero.vertices.size(), no = one.vertices.size();
+  Eigen::VectorXi constrained(nz + no);
+  constrained << zero.vertices, one.vertices;
+  Eigen::MatrixXd values(nz + no, 1);
+  values.topRows(nz).setZero();  // §VIII: fixed sets → 0, handle sets → 1
+  values.bottomRows(no).setOnes();
+  return solve_dirichlet(V, F, constrained, values, weights, who).col(0);
+}
+
+}  // namespace spinmotor
