@@ -1,0 +1,45 @@
+#pragma once
+// Eigenvalues of the generalized problem A*A λ = γ B*A λ (Crane et al. 2011, eq. 6) nearest zero, the
+// discrete spectrum of the Dirac operator D − ρ (§6.2): on the unit sphere with ρ = 0 the smooth
+// operator has eigenvalues n ∈ ℤ \ {−1}; counted as real multiplicities (×4 per quaternionic one) and
+// with faces counter-clockwise seen from outside, eq. 6 gives 0 ×4 (the constants), +1 ×8, −2 ×4,
+// +2 ×12, ... Eigenvalues scale as 1/length.
+//
+// Method. With ρ ≡ 0 the constant quaternions are in the kernel of BOTH sides (D·1 = 0), so the pencil
+// is singular; the pencil is well defined on the quotient by the constants, and restricting it to
+// the complement {λ_p = 0} for one vertex p represents that quotient exactly (A*A and B*A annihilate
+// the constants, so the dropped rows of p follow from the others). On that complement A*A is
+// positive definite, and Spectra's Lanczos solver in regular-inverse mode computes the eigenvalues
+// μ = 1/γ of largest magnitude of B*A x = μ A*A x, each product using one solve with the CHOLMOD
+// factor of A*A. The constants are reported separately (constant_kernel = 4, γ = 0). With ρ ≢ 0
+// nothing is removed.
+#include <Eigen/Core>
+
+namespace spinmotor {
+
+struct DiracSpectrumOptions {
+  int count = 20;             ///< number of eigenvalues nearest 0 (real multiplicities, constants excluded)
+  int ncv = 0;                ///< Lanczos basis size; 0 means min(N, max(2·count + 1, count + 40))
+  double tolerance = 1e-10;   ///< Spectra's relative tolerance on the Ritz values
+  int max_iterations = 1000;  ///< Spectra restarts
+  bool eigenvectors = false;  ///< also return the eigenvectors
+};
+
+struct DiracSpectrum {
+  Eigen::VectorXd eigenvalues;   ///< `count` values γ, by increasing |γ| (ties: negative first)
+  Eigen::MatrixXd eigenvectors;  ///< 4n×count quaternion fields (rows of the n×4 field concatenated),
+                                 ///< constant part removed (M_V-orthogonal to the constants); empty
+                                 ///< unless requested
+  int constant_kernel = 0;       ///< 4 when ρ ≡ 0: the constants (γ = 0), not among `eigenvalues`
+  long iterations = 0;           ///< Spectra restarts
+  long operations = 0;           ///< products with (A*A)⁻¹ B*A
+};
+
+/// Inputs: V (n×3), F (m×3, counter-clockwise), rho (m, or empty for ρ ≡ 0), options. Output: the
+/// spectrum above. The mesh must be a closed, oriented, connected manifold without degenerate faces
+/// or unreferenced vertices (B*A is Hermitian only on closed meshes); otherwise Error naming the
+/// defect. Error (numerical) if Spectra does not converge.
+DiracSpectrum dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::VectorXd& rho = {},
+                             const DiracSpectrumOptions& options = {});
+
+}  // namespace spinmotor

@@ -1,0 +1,383 @@
+#include "spinmotor/spin/dirac_assembly.hpp"
+
+#include <cholmod.h>
+
+#include <algorithm>
+#include <limits>
+#include <numeric>
+#include <sstream>
+
+#include "spinmotor/error.hpp"
+#include "spinmotor/mesh/face_geometry.hpp"
+#include "spinmotor/mesh/topology.hpp"
+#include "spinmotor/spin/quaternion_matrix.hpp"
+
+namespace spinmotor {
+
+namespace {
+
+using RowQuats = Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>;
+
+// Fill-reducing ordering of the symmetric graph given by its full CSC pattern (diagonal included).
+Eigen::VectorXi graph_ordering(Eigen::Index n, std::vector<int>& colptr, std::vector<int>& rowind,
+                               VertexOrdering ordering) {
+  Eigen::VectorXi perm(n);
+  if (ordering == VertexOrdering::Natural || n == 0) {
+    std::iota(perm.begin(), perm.end(), 0);
+    return perm;
+  }
+  cholmod_common c;
+  cholmod_start(&c);
+  c.print = 0;
+  c.error_handler = nullptr;
+  cholmod_sparse A{};
+  A.nrow = A.ncol = static_cast<size_t>(n);
+  A.nzmax = rowind.size();
+  A.p = colptr.data();
+  A.i = rowind.data();
+  A.stype = 1;  // symmetric, upper triangle read
+  A.itype = CHOLMOD_INT;
+  A.xtype = CHOLMOD_PATTERN;
+  A.dtype = CHOLMOD_DOUBLE;
+  A.sorted = 1;
+  A.packed = 1;
+  const int ok = ordering == VertexOrdering::AMD ? cholmod_amd(&A, nullptr, 0, perm.data(), &c)
+                                                 : cholmod_metis(&A, nullptr, 0, 1, perm.data(), &c);
+  cholmod_finish(&c);
+  if (!ok) throw numerical_error("DiracAssembly: CHOLMOD could not order the vertex graph");
+  return perm;
+}
+
+}  // namespace
+
+DiracAssembly::DiracAssembly(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, VertexOrdering ordering,
+                             const Eigen::VectorXi& reduced_vertices,
+                             const std::vector<Eigen::Matrix<double, 4, 2>>& reductions)
+    : n_(V.rows()), m_(F.rows()), F_(F) {
+  if (V.cols() != 3 || F.cols() != 3) throw Error("DiracAssembly: V and F must have 3 columns");
+  if (m_ == 0) throw Error("DiracAssembly: the mesh has no faces");
+  if (reduced_vertices.size() != static_cast<Eigen::Index>(reductions.size()))
+    throw Error("DiracAssembly: one 4x2 reduction block is needed per reduced vertex");
+  area_ = spinmotor::face_areas(V, F);  // also checks indices and finiteness
+  normal_.resize(m_, 3);
+  edge_vec_.resize(m_, 9);
+  vertex_area_ = Eigen::VectorXd::Zero(n_);
+  for (Eigen::Index f = 0; f < m_; ++f) {
+    const Eigen::Vector3d x0 = V.row(F(f, 0)), x1 = V.row(F(f, 1)), x2 = V.row(F(f, 2));
+    const Eigen::Vector3d e[3] = {x2 - x1, x0 - x2, x1 - x0};  // opposite corners 0, 1, 2 (CCW)
+    const Eigen::Vector3d cr = (x1 - x0).cross(x2 - x0);
+    const double len = cr.norm();
+    const double lmax = std::max({e[0].squaredNorm(), e[1].squaredNorm(), e[2].squaredNorm()});
+    if (!(len > 16.0 * std::numeric_limits<double>::epsilon() * lmax)) {
+      std::ostringstream s;
+      s << "DiracAssembly: face " << f << " (" << F(f, 0) << ", " << F(f, 1) << ", " << F(f, 2)
+        << ") is degenerate (area " << area_[f] << ")";
+      throw Error(s.str());
+    }
+    normal_.row(f) = cr / len;
+    for (int c = 0; c < 3; ++c) {
+      edge_vec_.block<1, 3>(f, 3 * c) = e[c].transpose();
+      vertex_area_[F(f, c)] += area_[f] / 3.0;
+    }
+  }
+  for (Eigen::Index i = 0; i < n_; ++i)
+    if (!(vertex_area_[i] > 0)) {
+      std::ostringstream s;
+      s << "DiracAssembly: vertex " << i << " is in no face (remove unreferenced vertices first)";
+      throw Error(s.str());
+    }
+
+  // Edges and their incident face corners.
+  const EdgeTopology topo = edge_topology(F);
+  E_ = topo.E;
+  EF_offset_ = topo.EF_offset;
+  EF_face_ = topo.EF_face;
+  const Eigen::Index ne = E_.rows();
+  EF_sign_.resize(EF_face_.size());
+  EF_corner_.resize(EF_face_.size());
+  for (Eigen::Index e = 0; e < ne; ++e)
+    for (int k = EF_offset_[e]; k < EF_offset_[e + 1]; ++k) {
+      const int f = EF_face_[k];
+      int c = -1;
+      for (int cc = 0; cc < 3; ++cc)
+        if (topo.FE(f, (cc + 2) % 3) == e) c = cc;  // the pair (c, c+1) is the edge opposite c+2
+      const int a = F(f, c);
+      EF_corner_[k] = c;
+      EF_sign_[k] = a == E_(e, 0) ? 1 : -1;
+    }
+  // Vertex → corners.
+  VF_offset_ = Eigen::VectorXi::Zero(n_ + 1);
+  for (Eigen::Index f = 0; f < m_; ++f)
+    for (int c = 0; c < 3; ++c) ++VF_offset_[F(f, c) + 1];
+  for (Eigen::Index i = 0; i < n_; ++i) VF_offset_[i + 1] += VF_offset_[i];
+  VF_corner_.resize(3 * m_);
+  {
+    std::vector<int> fillp(VF_offset_.data(), VF_offset_.data() + n_);
+    for (Eigen::Index f = 0; f < m_; ++f)
+      for (int c = 0; c < 3; ++c) VF_corner_[fillp[F(f, c)]++] = static_cast<int>(3 * f + c);
+  }
+
+  // Vertex ordering on the vertex graph.
+  {
+    std::vector<int> colptr(n_ + 1, 0), rowind;
+    std::vector<std::vector<int>> adj(n_);
+    for (Eigen::Index e = 0; e < ne; ++e) {
+      adj[E_(e, 0)].push_back(E_(e, 1));
+      adj[E_(e, 1)].push_back(E_(e, 0));
+    }
+    rowind.reserve(2 * ne + n_);
+    for (Eigen::Index j = 0; j < n_; ++j) {
+      adj[j].push_back(static_cast<int>(j));
+      std::sort(adj[j].begin(), adj[j].end());
+      rowind.insert(rowind.end(), adj[j].begin(), adj[j].end());
+      colptr[j + 1] = static_cast<int>(rowind.size());
+    }
+    order_ = graph_ordering(n_, colptr, rowind, ordering);
+  }
+  rank_.resize(n_);
+  for (Eigen::Index k = 0; k < n_; ++k) rank_[order_[k]] = static_cast<int>(k);
+
+  // Unknowns per vertex (new order).
+  U_.assign(n_, Eigen::Matrix<double, 4, 2>::Zero());
+  std::vector<int> dof(n_, 4);
+  for (Eigen::Index r = 0; r < reduced_vertices.size(); ++r) {
+    const int i = reduced_vertices[r];
+    if (i < 0 || i >= n_) {
+      std::ostringstream s;
+      s << "DiracAssembly: reduced vertex " << i << " is outside [0, " << n_ << ")";
+      throw Error(s.str());
+    }
+    if (dof[rank_[i]] == 2) {
+      std::ostringstream s;
+      s << "DiracAssembly: vertex " << i << " is listed twice among the reduced vertices";
+      throw Error(s.str());
+    }
+    dof[rank_[i]] = 2;
+    U_[rank_[i]] = reductions[r];
+    reduced_ = true;
+  }
+  dof_offset_.assign(n_ + 1, 0);
+  for (Eigen::Index k = 0; k < n_; ++k) dof_offset_[k + 1] = dof_offset_[k] + dof[k];
+
+  // Neighbours k > j in the new order.
+  nb_offset_ = Eigen::VectorXi::Zero(n_ + 1);
+  for (Eigen::Index e = 0; e < ne; ++e) ++nb_offset_[std::min(rank_[E_(e, 0)], rank_[E_(e, 1)]) + 1];
+  for (Eigen::Index j = 0; j < n_; ++j) nb_offset_[j + 1] += nb_offset_[j];
+  nb_vertex_.resize(ne);
+  nb_edge_.resize(ne);
+  nb_e0_is_row_.resize(ne);
+  {
+    std::vector<int> fillp(nb_offset_.data(), nb_offset_.data() + n_);
+    for (Eigen::Index e = 0; e < ne; ++e) {
+      const int r0 = rank_[E_(e, 0)], r1 = rank_[E_(e, 1)];
+      const int j = std::min(r0, r1), k = std::max(r0, r1);
+      const int p = fillp[j]++;
+      nb_vertex_[p] = k;
+      nb_edge_[p] = static_cast<int>(e);
+      nb_e0_is_row_[p] = r0 == k;
+    }
+    for (Eigen::Index j = 0; j < n_; ++j) {
+      const int b = nb_offset_[j], en = nb_offset_[j + 1];
+      std::vector<int> idx(en - b);
+      std::iota(idx.begin(), idx.end(), b);
+      std::sort(idx.begin(), idx.end(), [&](int x, int y) { return nb_vertex_[x] < nb_vertex_[y]; });
+      std::vector<int> v(idx.size()), ed(idx.size()), o(idx.size());
+      for (std::size_t t = 0; t < idx.size(); ++t)
+        v[t] = nb_vertex_[idx[t]], ed[t] = nb_edge_[idx[t]], o[t] = nb_e0_is_row_[idx[t]];
+      for (std::size_t t = 0; t < idx.size(); ++t)
+        nb_vertex_[b + t] = v[t], nb_edge_[b + t] = ed[t], nb_e0_is_row_[b + t] = o[t];
+    }
+  }
+
+  // The lower-triangular pattern.
+  const Eigen::Index N = dof_offset_[n_];
+  pattern_.resize(N, N);
+  std::vector<int> outer(N + 1, 0);
+  for (Eigen::Index j = 0; j < n_; ++j) {
+    Eigen::Index below = 0;
+    for (int p = nb_offset_[j]; p < nb_offset_[j + 1]; ++p) below += dof[nb_vertex_[p]];
+    for (int c = 0; c < dof[j]; ++c) outer[dof_offset_[j] + c + 1] = static_cast<int>(dof[j] - c + below);
+  }
+  for (Eigen::Index j = 0; j < N; ++j) outer[j + 1] += outer[j];
+  pattern_.resizeNonZeros(outer[N]);
+  std::copy(outer.begin(), outer.end(), pattern_.outerIndexPtr());
+  int* inner = pattern_.innerIndexPtr();
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index j = 0; j < n_; ++j)
+    for (int c = 0; c < dof[j]; ++c) {
+      int pos = outer[dof_offset_[j] + c];
+      for (int r = c; r < dof[j]; ++r) inner[pos++] = static_cast<int>(dof_offset_[j] + r);
+      for (int p = nb_offset_[j]; p < nb_offset_[j + 1]; ++p) {
+        const int k = nb_vertex_[p];
+        for (int r = 0; r < dof[k]; ++r) inner[pos++] = static_cast<int>(dof_offset_[k] + r);
+      }
+    }
+  std::fill(pattern_.valuePtr(), pattern_.valuePtr() + outer[N], 0.0);
+}
+
+void DiracAssembly::fill(const Eigen::VectorXd& scale, const Eigen::VectorXd& diag, const RowQuats& edge_q,
+                         Eigen::SparseMatrix<double>& K) const {
+  const Eigen::Index N = num_unknowns();
+  if (K.rows() != N || K.cols() != N || K.nonZeros() != pattern_.nonZeros() || !K.isCompressed())
+    throw Error("DiracAssembly: the output matrix must be a copy of pattern()");
+  if (scale.size() != 0 && scale.size() != n_) {
+    std::ostringstream s;
+    s << "DiracAssembly: scale has " << scale.size() << " entries for " << n_ << " vertices";
+    throw Error(s.str());
+  }
+  const int* outer = K.outerIndexPtr();
+  double* val = K.valuePtr();
+  const bool scaled = scale.size() == n_;
+#pragma omp parallel for schedule(dynamic, 256)
+  for (Eigen::Index j = 0; j < n_; ++j) {
+    const int oj = order_[j];
+    const double sj = scaled ? scale[oj] : 1.0;
+    const int dj = static_cast<int>(dof_offset_[j + 1] - dof_offset_[j]);
+    // Diagonal block s_j² d U_jᵀ U_j (U = identity for a free vertex): the diagonal quaternion of a
+    // Hermitian matrix is real.
+    Eigen::Matrix4d Dj = Eigen::Matrix4d::Zero();
+    if (dj == 4)
+      Dj.diagonal().setConstant(sj * sj * diag[oj]);
+    else
+      Dj.topLeftCorner<2, 2>() = sj * sj * diag[oj] * (U_[j].transpose() * U_[j]);
+    for (int c = 0; c < dj; ++c) {
+      int pos = outer[dof_offset_[j] + c];
+      for (int r = c; r < dj; ++r) val[pos++] = Dj(r, c);
+    }
+    for (int p = nb_offset_[j]; p < nb_offset_[j + 1]; ++p) {
+      const int k = nb_vertex_[p];
+      const int ok = order_[k];
+      const int dk = static_cast<int>(dof_offset_[k + 1] - dof_offset_[k]);
+      const auto q = edge_q.row(nb_edge_[p]);
+      // Entry (row k, column j): the stored quaternion is (E0, E1); its conjugate is (E1, E0).
+      const double sg = nb_e0_is_row_[p] ? 1.0 : -1.0;
+      Eigen::Matrix4d X = quaternion_block(ga::Quat(q[0], sg * q[1], sg * q[2], sg * q[3]));
+      X *= (scaled ? scale[ok] : 1.0) * sj;
+      // Offset of this neighbour's rows inside column c of block j: after the diagonal part and the
+      // rows of the neighbours before it.
+      Eigen::Matrix4d Y;
+      if (dk == 4 && dj == 4) {
+        Y = X;
+      } else {
+        Y.setZero();
+        const Eigen::MatrixXd Uk = dk == 4 ? Eigen::MatrixXd(Eigen::Matrix4d::Identity()) : Eigen::MatrixXd(U_[k]);
+        const Eigen::MatrixXd Uj = dj == 4 ? Eigen::MatrixXd(Eigen::Matrix4d::Identity()) : Eigen::MatrixXd(U_[j]);
+        Y.topLeftCorner(dk, dj) = Uk.transpose() * X * Uj;
+      }
+      int before = 0;
+      for (int t = nb_offset_[j]; t < p; ++t)
+        before += static_cast<int>(dof_offset_[nb_vertex_[t] + 1] - dof_offset_[nb_vertex_[t]]);
+      for (int c = 0; c < dj; ++c) {
+        int pos = outer[dof_offset_[j] + c] + (dj - c) + before;
+        for (int r = 0; r < dk; ++r) val[pos++] = Y(r, c);
+      }
+    }
+  }
+}
+
+void DiracAssembly::normal_matrix(const Eigen::VectorXd& rho, const Eigen::VectorXd& scale,
+                                  Eigen::SparseMatrix<double>& K) const {
+  if (rho.size() != m_) {
+    std::ostringstream s;
+    s << "DiracAssembly: rho has " << rho.size() << " values for " << m_ << " faces";
+    throw Error(s.str());
+  }
+  const Eigen::Index ne = E_.rows();
+  Eigen::VectorXd diag(n_);
+  RowQuats edge_q(ne, 4);
+  // Per vertex: Σ_f |e_a|²/(4A) + A ρ²/9 (the real diagonal of A*A).
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index i = 0; i < n_; ++i) {
+    double d = 0;
+    for (int t = VF_offset_[i]; t < VF_offset_[i + 1]; ++t) {
+      const int f = VF_corner_[t] / 3, c = VF_corner_[t] % 3;
+      const double A = area_[f], r = rho[f];
+      d += edge_vec_.block<1, 3>(f, 3 * c).squaredNorm() / (4.0 * A) + A * r * r / 9.0;
+    }
+    diag[i] = d;
+  }
+  // Per edge (E0, E1): Σ_f of the entry (a, b) = (F(f,c), F(f,c+1)), conjugated when a = E1.
+  //   −e_a e_b/(4A) = (e_a·e_b − e_a×e_b)/(4A), and e_c × e_{c+1} = 2A N, so the vector part is −N/2.
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index e = 0; e < ne; ++e) {
+    Eigen::Vector4d q = Eigen::Vector4d::Zero();
+    for (int t = EF_offset_[e]; t < EF_offset_[e + 1]; ++t) {
+      const int f = EF_face_[t], c = EF_corner_[t];
+      const double A = area_[f], r = rho[f];
+      const Eigen::Vector3d ea = edge_vec_.block<1, 3>(f, 3 * c).transpose();
+      const Eigen::Vector3d eb = edge_vec_.block<1, 3>(f, 3 * ((c + 1) % 3)).transpose();
+      const double w = ea.dot(eb) / (4.0 * A) + A * r * r / 9.0;
+      const Eigen::Vector3d v = -0.5 * normal_.row(f).transpose() + (r / 6.0) * (eb - ea);
+      q[0] += w;
+      q.tail<3>() += EF_sign_[t] * v;
+    }
+    edge_q.row(e) = q.transpose();
+  }
+  fill(scale, diag, edge_q, K);
+}
+
+void DiracAssembly::mixed_matrix(const Eigen::VectorXd& rho, const Eigen::VectorXd& scale,
+                                 Eigen::SparseMatrix<double>& G) const {
+  if (rho.size() != m_) {
+    std::ostringstream s;
+    s << "DiracAssembly: rho has " << rho.size() << " values for " << m_ << " faces";
+    throw Error(s.str());
+  }
+  const Eigen::Index ne = E_.rows();
+  Eigen::VectorXd diag(n_);
+  RowQuats edge_q(ne, 4);
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index i = 0; i < n_; ++i) {
+    double d = 0;
+    for (int t = VF_offset_[i]; t < VF_offset_[i + 1]; ++t) {
+      const int f = VF_corner_[t] / 3;
+      d -= area_[f] * rho[f] / 9.0;  // real part of (B*A)_ii; −Σ e_a/6 vanishes on a closed 1-ring
+    }
+    diag[i] = d;
+  }
+  // (B*A)_ab = Σ_f −e_b/6 − Aρ/9 with b = E1 (the column of the stored entry (E0, E1)).
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index e = 0; e < ne; ++e) {
+    Eigen::Vector4d q = Eigen::Vector4d::Zero();
+    for (int t = EF_offset_[e]; t < EF_offset_[e + 1]; ++t) {
+      const int f = EF_face_[t], c = EF_corner_[t];
+      const int cb = EF_sign_[t] > 0 ? (c + 1) % 3 : c;  // corner of E1 in face f
+      q[0] -= area_[f] * rho[f] / 9.0;
+      q.tail<3>() -= edge_vec_.block<1, 3>(f, 3 * cb).transpose() / 6.0;
+    }
+    edge_q.row(e) = q.transpose();
+  }
+  fill(scale, diag, edge_q, G);
+}
+
+Eigen::MatrixXd DiracAssembly::expand(const Eigen::VectorXd& x, const Eigen::VectorXd& scale) const {
+  if (x.size() != num_unknowns()) throw Error("DiracAssembly::expand: wrong number of unknowns");
+  Eigen::MatrixXd lambda(n_, 4);
+  for (Eigen::Index k = 0; k < n_; ++k) {
+    const int i = order_[k];
+    const double s = scale.size() == n_ ? scale[i] : 1.0;
+    const Eigen::Index o = dof_offset_[k];
+    if (dof_offset_[k + 1] - o == 4)
+      lambda.row(i) = s * x.segment<4>(o).transpose();
+    else
+      lambda.row(i) = s * (U_[k] * x.segment<2>(o)).transpose();
+  }
+  return lambda;
+}
+
+Eigen::VectorXd DiracAssembly::restrict_field(const Eigen::MatrixXd& lambda) const {
+  if (lambda.rows() != n_ || lambda.cols() != 4) throw Error("DiracAssembly::restrict_field: lambda must be n x 4");
+  Eigen::VectorXd x(num_unknowns());
+  for (Eigen::Index k = 0; k < n_; ++k) {
+    const int i = order_[k];
+    const Eigen::Index o = dof_offset_[k];
+    const Eigen::Vector4d l = lambda.row(i).transpose();
+    if (dof_offset_[k + 1] - o == 4)
+      x.segment<4>(o) = l;
+    else
+      x.segment<2>(o) = (U_[k].transpose() * U_[k]).ldlt().solve(U_[k].transpose() * l);
+  }
+  return x;
+}
+
+}  // namespace spinmotor
