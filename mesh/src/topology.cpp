@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <numeric>
 
 namespace spinmotor {
@@ -26,37 +27,51 @@ struct UnionFind {
 }  // namespace
 
 EdgeTopology edge_topology(const Eigen::MatrixXi& F) {
+  // Bucket every corner's opposite edge by its smaller vertex (a counting sort), then sort each short
+  // bucket by (larger vertex, face, corner): O(m) plus tiny sorts, and the edges come out in
+  // lexicographic order with their incident faces in increasing face order.
   const Eigen::Index m = F.rows();
-  // (min, max, face, corner) for every corner's opposite edge; sort to group equal edges.
-  std::vector<std::array<int, 4>> h(static_cast<size_t>(3 * m));
+  const Eigen::Index n = m ? F.maxCoeff() + 1 : 0;
+  std::vector<int> offset(static_cast<size_t>(n) + 1, 0);
+  for (Eigen::Index f = 0; f < m; ++f)
+    for (int c = 0; c < 3; ++c) ++offset[std::min(F(f, (c + 1) % 3), F(f, (c + 2) % 3)) + 1];
+  for (Eigen::Index i = 0; i < n; ++i) offset[i + 1] += offset[i];
+  // Entry key: (larger vertex) << 32 | (3 f + c), so one integer sort orders by vertex, then face.
+  std::vector<std::uint64_t> entry(static_cast<size_t>(3 * m));
+  std::vector<int> fill(offset.begin(), offset.end() - 1);
   for (Eigen::Index f = 0; f < m; ++f)
     for (int c = 0; c < 3; ++c) {
       const int a = F(f, (c + 1) % 3), b = F(f, (c + 2) % 3);
-      h[3 * f + c] = {std::min(a, b), std::max(a, b), static_cast<int>(f), c};
+      entry[fill[std::min(a, b)]++] =
+          (static_cast<std::uint64_t>(std::max(a, b)) << 32) | static_cast<std::uint64_t>(3 * f + c);
     }
-  std::sort(h.begin(), h.end());
 
   EdgeTopology t;
   t.FE.resize(m, 3);
   t.EF_face.resize(3 * m);
-  std::vector<int> offsets;
-  std::vector<std::array<int, 2>> edges;
-  offsets.reserve(3 * m / 2 + 2);
-  for (size_t i = 0; i < h.size(); ++i) {
-    if (i == 0 || h[i][0] != h[i - 1][0] || h[i][1] != h[i - 1][1]) {
-      offsets.push_back(static_cast<int>(i));
-      edges.push_back({h[i][0], h[i][1]});
+  std::vector<int> edge_offset, e0, e1;
+  edge_offset.reserve(static_cast<size_t>(3 * m / 2 + 2));
+  e0.reserve(static_cast<size_t>(3 * m / 2 + 1));
+  e1.reserve(static_cast<size_t>(3 * m / 2 + 1));
+  for (Eigen::Index a = 0; a < n; ++a) {
+    const auto begin = entry.begin() + offset[a], end = entry.begin() + offset[a + 1];
+    std::sort(begin, end);
+    for (auto it = begin; it != end; ++it) {
+      const auto i = static_cast<Eigen::Index>(it - entry.begin());
+      const int b = static_cast<int>(*it >> 32), corner = static_cast<int>(*it & 0xffffffffu);
+      if (it == begin || (*(it - 1) >> 32) != (*it >> 32)) {
+        edge_offset.push_back(static_cast<int>(i));
+        e0.push_back(static_cast<int>(a));
+        e1.push_back(b);
+      }
+      t.FE(corner / 3, corner % 3) = static_cast<int>(e0.size() - 1);
+      t.EF_face[i] = corner / 3;
     }
-    t.FE(h[i][2], h[i][3]) = static_cast<int>(edges.size() - 1);
-    t.EF_face[static_cast<Eigen::Index>(i)] = h[i][2];
   }
-  offsets.push_back(static_cast<int>(h.size()));
-  t.E.resize(static_cast<Eigen::Index>(edges.size()), 2);
-  for (size_t e = 0; e < edges.size(); ++e) {
-    t.E(e, 0) = edges[e][0];
-    t.E(e, 1) = edges[e][1];
-  }
-  t.EF_offset = Eigen::Map<Eigen::VectorXi>(offsets.data(), static_cast<Eigen::Index>(offsets.size()));
+  edge_offset.push_back(static_cast<int>(3 * m));
+  t.E.resize(static_cast<Eigen::Index>(e0.size()), 2);
+  for (size_t e = 0; e < e0.size(); ++e) t.E.row(static_cast<Eigen::Index>(e)) << e0[e], e1[e];
+  t.EF_offset = Eigen::Map<Eigen::VectorXi>(edge_offset.data(), static_cast<Eigen::Index>(edge_offset.size()));
   return t;
 }
 

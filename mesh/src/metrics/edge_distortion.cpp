@@ -1,7 +1,7 @@
 #include "spinmotor/mesh/metrics/edge_distortion.hpp"
 
 #include "metric_checks.hpp"
-#include "unique_edges.hpp"
+#include "spinmotor/mesh/topology.hpp"
 
 namespace spinmotor {
 namespace {
@@ -14,7 +14,7 @@ struct Lengths {
 Lengths lengths(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXi& F, const Eigen::MatrixXd& V_def,
                 const char* who) {
   detail::check_pair(V_rest, F, V_def, who);
-  const Eigen::MatrixXi E = detail::unique_edges(F, V_rest.rows()).E;
+  const Eigen::MatrixXi E = edge_topology(F).E;
   Lengths l;
   l.rest.resize(E.rows());
   l.def.resize(E.rows());

@@ -2,7 +2,7 @@
 
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/mesh/mass_matrix.hpp"
-#include "unique_edges.hpp"
+#include "spinmotor/mesh/topology.hpp"
 
 namespace spinmotor {
 
@@ -14,9 +14,8 @@ Eigen::VectorXd willmore_density(const Eigen::MatrixXd& V, const Eigen::MatrixXi
   Eigen::VectorXd w = Eigen::VectorXd::Zero(V.rows());
   for (Eigen::Index i = 0; i < V.rows(); ++i)
     if (A[i] > 0) w[i] = LV.row(i).squaredNorm() / (4.0 * A[i]);  // H_i² A_i
-  const detail::UniqueEdges u = detail::unique_edges(F, V.rows());
-  for (Eigen::Index e = 0; e < u.E.rows(); ++e)
-    if (u.faces[e] == 1) w[u.E(e, 0)] = w[u.E(e, 1)] = 0.0;  // boundary vertex
+  const Eigen::VectorXi boundary = boundary_vertices(F, V.rows());
+  for (Eigen::Index k = 0; k < boundary.size(); ++k) w[boundary[k]] = 0.0;  // H is undefined there
   return w;
 }
 
