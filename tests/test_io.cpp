@@ -423,3 +423,45 @@ TEST_CASE("OpenMesh reads what we write, and we read what OpenMesh writes", "[io
   CHECK(ro.F == m.F);
   CHECK(max_abs_diff(ro.V, mf.V) < 1e-5);  // OpenMesh prints OFF with 6 significant digits
 }
+
+TEST_CASE("every truncation of every format reads or throws Error, never anything else", "[io][robust]") {
+  TempDir dir;
+  const Mesh m = octahedron();
+  for (const auto& [name, binary] : {std::pair<const char*, bool>{"m.obj", false},
+                                     {"m.off", false},
+                                     {"m.ply", true},
+                                     {"a.ply", false},
+                                     {"m.stl", true},
+                                     {"a.stl", false}}) {
+    INFO(name);
+    write_mesh(dir / name, m, {.binary = binary});
+    const std::string full = read_bytes(dir / name);
+    int errors = 0;
+    for (std::size_t len = 0; len < full.size(); ++len) {
+      // A new name each time: rewriting one file makes ext4 flush it on close (slow on a busy disk).
+      const fs::path cut = dir / ("cut" + std::to_string(len) + fs::path(name).extension().string());
+      write_bytes(cut, full.substr(0, len));
+      try {
+        const Mesh r = read_mesh(cut);
+        CHECK(r.F.rows() <= m.F.rows());  // a prefix that parses holds a prefix of the faces
+      } catch (const Error&) {
+        ++errors;
+      } catch (const std::exception& e) {
+        FAIL("length " << len << ": unexpected exception " << e.what());
+      }
+      fs::remove(cut);
+    }
+    CHECK(errors > 0);
+  }
+}
+
+TEST_CASE("a corrupt header announcing 2^31 elements is a truncation error, not bad_alloc", "[io][robust]") {
+  TempDir dir;
+  write_bytes(dir / "big.off", "OFF\n2000000000 2000000000 0\n0 0 0\n");
+  CHECK_THAT(error_of([&] { read_mesh(dir / "big.off"); }), Catch::Contains("unexpected end of file"));
+  write_bytes(dir / "big.ply",
+              "ply\nformat binary_little_endian 1.0\nelement vertex 2000000000\nproperty float x\n"
+              "property float y\nproperty float z\nelement face 2000000000\n"
+              "property list uchar int vertex_indices\nend_header\n0123456789");
+  CHECK_THAT(error_of([&] { read_mesh(dir / "big.ply"); }), Catch::Contains("truncated"));
+}
