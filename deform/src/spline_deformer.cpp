@@ -1,0 +1,24 @@
+#include "spinmotor/deform/spline_deformer.hpp"
+
+#include "spinmotor/error.hpp"
+
+namespace spinmotor {
+
+SplineDeformer SplineDeformer::bind(const Mesh& rest, std::span<const Handle> handles, const Options& options) {
+  check_spline(options.basis, options.keys, options.degree);
+  if (handles.size() != 2)
+    throw Error("SplineDeformer: needs exactly two handles {from, to}, got " + std::to_string(handles.size()));
+  SplineDeformer d;
+  d.options_ = options;
+  // §III: the parameter λ is harmonic, 0 on `from` and 1 on `to` (§VIII).
+  d.lambda_ = harmonic_field(rest.V, rest.F, handles[0], handles[1], options.weights);
+  const Eigen::Index n = rest.V.rows();
+  MotorBlendField::Weights W(n, options.keys);
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index i = 0; i < n; ++i)
+    spline_weights(options.basis, options.keys, options.degree, d.lambda_[i], W.row(i).data());  // W_j(λ_i)
+  d.field_ = MotorBlendField::bind(rest.V, std::move(W), ga::Blend::Log, options.rest_keys);
+  return d;
+}
+
+}  // namespace spinmotor
