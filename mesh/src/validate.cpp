@@ -175,20 +175,29 @@ MeshReport validate(const Mesh& mesh) {
 
   // ---- non-manifold vertices: more than one fan ----
   {
-    // Distinct fan roots per vertex: sort the (vertex, root) pairs.
-    std::vector<int> fans(static_cast<std::size_t>(n), 0);
-    std::vector<std::pair<int, int>> vr;
-    vr.reserve(static_cast<std::size_t>(3 * Fp.rows()));
+    // A vertex is on one fan iff all its corners share one root; O(m), no sort.
+    std::vector<int> root0(static_cast<std::size_t>(n), -1);
+    std::vector<char> several(static_cast<std::size_t>(n), 0);
     for (Eigen::Index f = 0; f < Fp.rows(); ++f)
-      for (int c = 0; c < 3; ++c) vr.emplace_back(Fp(f, c), corners.find(static_cast<int>(3 * f + c)));
-    std::sort(vr.begin(), vr.end());
-    vr.erase(std::unique(vr.begin(), vr.end()), vr.end());
-    for (const auto& [v, root] : vr) ++fans[v];
-    for (Eigen::Index v = 0; v < n; ++v)
-      if (fans[v] > 1 && !on_nm_edge[v] && r.non_manifold_vertices++ == 0) {
-        r.first_non_manifold_vertex = static_cast<int>(v);
-        r.non_manifold_vertex_fans = fans[v];
+      for (int c = 0; c < 3; ++c) {
+        const int v = Fp(f, c), root = corners.find(static_cast<int>(3 * f + c));
+        if (root0[v] < 0)
+          root0[v] = root;
+        else if (root0[v] != root)
+          several[v] = 1;
       }
+    for (Eigen::Index v = 0; v < n; ++v)
+      if (several[v] && !on_nm_edge[v] && r.non_manifold_vertices++ == 0)
+        r.first_non_manifold_vertex = static_cast<int>(v);
+    if (r.first_non_manifold_vertex >= 0) {  // count the fans of the first one, for the message
+      std::vector<int> roots;
+      for (Eigen::Index f = 0; f < Fp.rows(); ++f)
+        for (int c = 0; c < 3; ++c)
+          if (Fp(f, c) == r.first_non_manifold_vertex)
+            roots.push_back(corners.find(static_cast<int>(3 * f + c)));
+      std::sort(roots.begin(), roots.end());
+      r.non_manifold_vertex_fans = static_cast<int>(std::unique(roots.begin(), roots.end()) - roots.begin());
+    }
   }
 
   // ---- components, Euler characteristic, boundary loops, genus ----
