@@ -1,0 +1,172 @@
+#pragma once
+// ArapDeformer: as-rigid-as-possible surface modeling (Sorkine & Alexa 2007; CGA paper §VII, eqs 9–13)
+// with handle regions moved by motors. Follows the bind/pose contract of deformer.hpp.
+//
+// Energy (eqs. 9–10 with unit cell weights): E(X', R) = Σ_i Σ_{(u,v) ∈ C_i} w_uv |e'_uv − R_i e_uv|²,
+// e = rest and e' = deformed edge vectors, R_i the rotor of cell C_i (eq. 11), with
+//   Spokes          (the paper's eq. 9) C_i = the edges (i, j) of the one-ring, w_ij the cotangent
+//                   weight ½(cot α_ij + cot β_ij) (= −L_ij of cotangent_laplacian.hpp);
+//   SpokesAndRims   (Chao et al. 2010; libigl's default for triangle meshes) C_i = the three edges of
+//                   every face around i, each with its face's ½ cot of the opposite angle.
+// Both energies have the same global (Poisson) matrix: ∂E/∂X' = 0 is L X' = B(R) with L the
+// cotangent Laplacian (eq. 12), B_i = ½ Σ_j w_ij (R_i + R_j) e_ij (spokes) or
+// B_i = ⅓ Σ_{faces t ∋ i} (R_t0 + R_t1 + R_t2) Σ_{edges (i,j) of t} c_t,ij e_ij (spokes and rims).
+//
+// Cotangent weights can be negative (obtuse angles). Default: kept (as libigl does). L stays positive
+// semi-definite whatever their signs (it is the stiffness matrix of linear finite elements), so the
+// global step is still an exact minimisation and the energy never increases; but a cell energy with a
+// negative weight is not a sum of squares any more, and E can in principle become negative on very
+// obtuse meshes. `clamp_negative_weights` replaces every negative weight by 0 (per edge for spokes, per
+// face corner for spokes-and-rims; the global matrix is assembled from the same clamped weights, so
+// monotonicity holds exactly as well); a vertex whose weights all clamp to 0 then floats and the
+// factorization reports it.
+//
+// Iteration (local/global alternation, §VII):
+//   local   per vertex (parallel, allocation-free) the covariance S_i = Σ w e e'ᵀ and its best rotor
+//           by Horn's method (arap_rotation.hpp), warm-started from the rotor of the previous iteration
+//           (or of the previous pose); the energy of the current positions, E(X'_k) = min_R E(X'_k, R),
+//           comes out of the same pass (cell by cell: Σ w|e'|² + Σ w|e|² − 2 tr(R_i S_i), evaluated
+//           term by term instead when that difference cancels, so that a rigid motion gives ~1e-30,
+//           not roundoff of the terms).
+//   global  L_FF X'_F = B_F − L_FC X'_C: the handle vertices C are eliminated (hard constraints,
+//           eq. 13 with the constrained rows and columns removed); L_FF is factorized once per handle
+//           set at bind (CHOLMOD through DirichletSolver) and the three coordinates are solved together.
+// Stopping: after k ≥ 1 global steps when E_{k−1} − E_k ≤ tolerance · E_{k−1}, or when E_k is zero to
+// roundoff (≤ 1e-24 of the rest-edge scale Σ w |e|²), or after `iterations` global steps. The report
+// lists E_0 (initial guess) … E_k: non-increasing (each step minimises exactly; ties to roundoff).
+//
+// Handles: pose() takes one unit motor per handle; the handle's vertices are placed at M p ~M (the
+// whole region moves rigidly). Vertices that no face references are kept at their rest position
+// (or moved by their handle). Every connected component of the mesh needs a handle vertex, otherwise
+// its position is undetermined: bind throws Error naming the component (index, size, a vertex), e.g.
+// for ogre.obj's 44 components. Degenerate faces are rejected by require() (naming the face).
+//
+// Initial guess of each pose:
+//   Rest      rest positions with the handles placed;
+//   Harmonic  surface harmonic coordinates (CGA paper §IV) blending the handle motors, exp(Σ λ_j log M_j),
+//             with the same cotangent Laplacian (λ solved with the ARAP factorization: k extra right-hand
+//             sides at bind, no second factorization): far fewer iterations for large rotations;
+//   Previous  the previous pose's result with the handles re-placed (Rest on the first pose): for
+//             interactive or animated posing.
+#include <Eigen/Core>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "spinmotor/deform/deformer.hpp"
+#include "spinmotor/deform/motor_blend_field.hpp"
+#include "spinmotor/mesh/dirichlet_solver.hpp"
+#include "spinmotor/mesh/mesh.hpp"
+
+namespace spinmotor {
+
+enum class ArapEnergy { Spokes, SpokesAndRims };
+enum class ArapInitial { Rest, Harmonic, Previous };
+
+/// "spokes" / "spokes-and-rims"; "rest" / "harmonic" / "previous".
+const char* to_string(ArapEnergy e);
+const char* to_string(ArapInitial i);
+
+/// What the last pose() did.
+struct ArapReport {
+  std::vector<double> energy;      ///< E(X'_0) (initial guess), E(X'_1), …: one per local step
+  int iterations = 0;              ///< global steps taken
+  bool converged = false;          ///< stopped by the tolerance (or a zero energy), not by `iterations`
+  double local_ms = 0.0;           ///< local steps (covariances, rotors, energies), all iterations
+  double global_ms = 0.0;          ///< right-hand sides and solves, all iterations
+  double initial_ms = 0.0;         ///< placing the handles and the initial guess
+  Eigen::Index jacobi_rotations = 0;  ///< local solves that took the Jacobi fallback (all iterations)
+};
+
+class ArapDeformer {
+public:
+  using RowMatrix3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
+  struct Options {
+    ArapEnergy energy = ArapEnergy::SpokesAndRims;
+    bool clamp_negative_weights = false;
+    int iterations = 100;      ///< at most this many global steps per pose (≥ 0)
+    double tolerance = 1e-6;   ///< relative energy change that stops the iteration (≥ 0)
+    ArapInitial initial = ArapInitial::Rest;
+    /// Factorization of L_FF. Simplicial LDLᵀ by default: with the three right-hand sides of ARAP its
+    /// solve is ~2× faster than the supernodal one with reference BLAS (bench_arap).
+    DirichletSolver::Options solver = default_solver_options();
+    static DirichletSolver::Options default_solver_options();
+  };
+
+  ArapDeformer() = default;
+  ArapDeformer(ArapDeformer&&) noexcept = default;
+  ArapDeformer& operator=(ArapDeformer&&) noexcept = default;
+
+  /// Inputs: rest mesh (V n×3, F m×3), k ≥ 1 disjoint handles (check_handles), options.
+  /// Precomputes the weights, the per-cell coefficients, the factorization of L_FF (and, for the
+  /// harmonic initial guess, the harmonic coordinates). Throws Error (BadInput) for a degenerate face,
+  /// bad handles, a component without a handle or bad options; Numerical if the factorization fails.
+  static ArapDeformer bind(const Mesh& rest, std::span<const Handle> handles, const Options& options);
+  static ArapDeformer bind(const Mesh& rest, std::span<const Handle> handles);
+
+  /// Changes the handles. The factorization is kept when the union of the handle vertices is
+  /// unchanged (only the assignment of vertices to motors changed); otherwise L_FF is re-factorized.
+  /// Returns true if it re-factorized. Same errors as bind.
+  bool set_handles(std::span<const Handle> handles);
+
+  /// Inputs: one unit motor per handle (deformer.hpp). Output: V_out (n×3) the ARAP solution with the
+  /// handles placed by their motors. Throws Error on a wrong motor count or a bad motor, and
+  /// numerical_error if the iteration produces non-finite values.
+  void pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out);
+
+  /// The ARAP energy min_R E(V, R) of any positions V (n×3), evaluated term by term with the best
+  /// rotations (Horn, cold start). Used to check the energies of pose() and by benchmarks.
+  double energy(const Eigen::MatrixXd& V) const;
+
+  /// The best rotor of every cell for the last pose's output (n, ga::Rot).
+  const std::vector<ga::Rot>& rotors() const { return rot_; }
+  const ArapReport& report() const { return report_; }
+  const Options& options() const { return options_; }
+  Eigen::Index vertices() const { return P_.rows(); }
+  Eigen::Index handles() const { return static_cast<Eigen::Index>(handle_sets_.size()); }
+  /// The global matrix (the cotangent Laplacian with the energy's weights), n×n.
+  const Eigen::SparseMatrix<double>& laplacian() const { return L_; }
+
+private:
+  void bind_handles(std::span<const Handle> handles);
+  double local_step();
+  void global_step();
+  double cell_energy_direct(Eigen::Index i, const Eigen::Matrix3d& R, const RowMatrix3& X) const;
+
+  Options options_;
+  Eigen::MatrixXi F_;
+  RowMatrix3 P_;  // rest positions
+  Eigen::SparseMatrix<double> L_;
+  // One-ring CSR (the off-diagonal pattern of L, rows sorted): for the slot k of vertex i (neighbour
+  // j = nbr_[k]) the spoke weight w_[k], the covariance coefficient kappa_.row(k) (S_i = Σ_k κ_k
+  // (x'_j − x'_i)ᵀ) and the right-hand-side coefficient h_.row(k) (B_i = R_i h_self_i + Σ_k R_j h_k).
+  std::vector<int> off_, nbr_;
+  Eigen::VectorXd w_;
+  RowMatrix3 kappa_, h_, h_self_;
+  // Rims of the spokes-and-rims cells: edge (rim_l_, rim_m_) with weight rim_c_, CSR by rim_off_.
+  std::vector<int> rim_off_, rim_l_, rim_m_;
+  Eigen::VectorXd rim_c_;
+  Eigen::VectorXd a_rest_;  // Σ_{(u,v) ∈ C_i} w_uv |e_uv|² per cell
+  double energy_scale_ = 0.0;
+  Eigen::VectorXi unreferenced_;
+
+  // Handles.
+  std::vector<Eigen::VectorXi> handle_sets_;
+  std::vector<std::string> handle_names_;
+  Eigen::VectorXi constrained_, constrained_handle_;  // handle of each constrained vertex (−1: unreferenced)
+  DirichletSolver solver_;
+  MotorBlendField harmonic_;
+  bool has_harmonic_ = false;
+
+  // Per-pose state and scratch (reused across poses: no allocation after the first).
+  RowMatrix3 X_;
+  std::vector<ga::Rot> rot_;
+  std::vector<ga::Mot> motors_;
+  std::vector<Eigen::Matrix3d> Rm_;
+  Eigen::MatrixXd B_, values_, Xcol_;
+  bool has_previous_ = false;
+  ArapReport report_;
+};
+
+}  // namespace spinmotor

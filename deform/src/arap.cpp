@@ -1,0 +1,489 @@
+#include "spinmotor/deform/arap.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "spinmotor/deform/arap_rotation.hpp"
+#include "spinmotor/error.hpp"
+#include "spinmotor/mesh/cotangent_laplacian.hpp"
+#include "spinmotor/mesh/face_geometry.hpp"
+#include "spinmotor/mesh/topology.hpp"
+#include "spinmotor/mesh/validate.hpp"
+
+namespace spinmotor {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+constexpr const char* kWho = "ArapDeformer";
+// Loops over fewer vertices run serially: waking the threads every iteration costs more than it saves.
+constexpr Eigen::Index kMinParallel = 4096;
+
+/// Cheap unit-motor check (no string built on the good path); the message comes from checked_unit_motor.
+ga::Mot unit_motor(const ga::Mot& m, std::size_t j, const std::string& handle) {
+  bool finite = true;
+  for (double c : m.c) finite = finite && std::isfinite(c);
+  if (finite) {
+    const auto nn = m * ga::reverse(m);
+    const double alpha = nn.get<ga::blade::s>(), beta = nn.get<ga::blade::e123ni>();
+    if (std::abs(alpha - 1.0) <= 1e-6 && std::abs(beta) <= 1e-6) return ga::normalize(m);
+  }
+  return checked_unit_motor(m, std::string(kWho) + ": motor " + std::to_string(j) + " (handle '" + handle + "')");
+}
+
+}  // namespace
+
+const char* to_string(ArapEnergy e) { return e == ArapEnergy::Spokes ? "spokes" : "spokes-and-rims"; }
+
+const char* to_string(ArapInitial i) {
+  switch (i) {
+    case ArapInitial::Rest: return "rest";
+    case ArapInitial::Harmonic: return "harmonic";
+    case ArapInitial::Previous: return "previous";
+  }
+  return "rest";
+}
+
+DirichletSolver::Options ArapDeformer::Options::default_solver_options() {
+  DirichletSolver::Options o;
+  o.cholesky.supernodal = false;
+  return o;
+}
+
+ArapDeformer ArapDeformer::bind(const Mesh& rest, std::span<const Handle> handles) {
+  return bind(rest, handles, Options{});
+}
+
+ArapDeformer ArapDeformer::bind(const Mesh& rest, std::span<const Handle> handles, const Options& options) {
+  if (options.iterations < 0)
+    throw Error(std::string(kWho) + ": iterations must be >= 0, got " + std::to_string(options.iterations));
+  if (!(options.tolerance >= 0.0) || !std::isfinite(options.tolerance))
+    throw Error(std::string(kWho) + ": tolerance must be finite and >= 0, got " + std::to_string(options.tolerance));
+  if (handles.empty())
+    throw Error(std::string(kWho) + ": needs at least one handle (ARAP is determined only up to a rigid motion)");
+  require(rest, {.finite = true, .no_degenerate = true}, kWho);  // names the first degenerate face
+  check_handles(handles, rest.V.rows(), kWho);
+
+  ArapDeformer d;
+  d.options_ = options;
+  d.F_ = rest.F;
+  d.P_ = rest.V;
+  const int n = static_cast<int>(rest.V.rows());
+  const Eigen::Index m = rest.F.rows();
+  const RowMatrix3& P = d.P_;
+  const Eigen::MatrixXi& F = d.F_;
+
+  // The one-ring CSR: the off-diagonal pattern of the cotangent Laplacian (rows sorted per column).
+  d.L_ = cotangent_laplacian(rest.V, rest.F);
+  Eigen::SparseMatrix<double>& L = d.L_;
+  d.off_.assign(n + 1, 0);
+  for (int i = 0; i < n; ++i)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(L, i); it; ++it)
+      if (it.row() != i) ++d.off_[i + 1];
+  for (int i = 0; i < n; ++i) d.off_[i + 1] += d.off_[i];
+  const int slots = d.off_[n];
+  d.nbr_.resize(slots);
+  for (int i = 0, k = 0; i < n; ++i)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(L, i); it; ++it)
+      if (it.row() != i) d.nbr_[k++] = static_cast<int>(it.row());
+  const auto slot = [&d](int i, int j) {
+    const auto b = d.nbr_.begin() + d.off_[i], e = d.nbr_.begin() + d.off_[i + 1];
+    return static_cast<int>(std::lower_bound(b, e, j) - d.nbr_.begin());
+  };
+  d.w_.setZero(slots);
+  d.kappa_.setZero(slots, 3);
+  d.h_.setZero(slots, 3);
+  d.h_self_.setZero(n, 3);
+  d.a_rest_.setZero(n);
+  const bool clamp = options.clamp_negative_weights;
+
+  if (options.energy == ArapEnergy::Spokes) {
+    // Eq. (9): cell i = its spokes (i, j), w_ij = −L_ij. S_i = Σ_j w_ij e_ij e'_ijᵀ = Σ_j κ_ij (x'_j − x'_i)ᵀ
+    // with κ_ij = −w_ij e_ij; eq. (12): B_i = ½ Σ_j w_ij (R_i + R_j) e_ij.
+    for (int i = 0; i < n; ++i) {
+      int k = d.off_[i];
+      for (Eigen::SparseMatrix<double>::InnerIterator it(L, i); it; ++it) {
+        if (it.row() == i) continue;
+        const double w = clamp ? std::max(-it.value(), 0.0) : -it.value();
+        const Eigen::RowVector3d e = P.row(i) - P.row(it.row());
+        d.w_[k] = w;
+        d.kappa_.row(k) = -w * e;
+        d.h_.row(k) = 0.5 * w * e;
+        d.h_self_.row(i) += 0.5 * w * e;
+        d.a_rest_[i] += w * e.squaredNorm();
+        ++k;
+      }
+    }
+  } else {
+    // Spokes and rims: cell a = every face t ∋ a with its three edges e_k (opposite corner k, e_k =
+    // x_{k+2} − x_{k+1}) weighted c_k = ½ cot of corner k. Per face Σ_k c_k e_k e'_kᵀ = Σ_k G_k x'_kᵀ with
+    // G_k = W_{k+1} − W_{k+2}, W_k = c_k e_k (Σ_k G_k = 0), and G_k is also the face's share of (L x)
+    // at corner k, so B_a = ⅓ Σ_{t ∋ a} (R_t0 + R_t1 + R_t2) G_{t,k(a)}.
+    Eigen::MatrixXd C = 0.5 * cotangents(rest.V, rest.F);
+    if (clamp) C = C.cwiseMax(0.0);
+    d.rim_off_.assign(n + 1, 0);
+    for (Eigen::Index t = 0; t < m; ++t)
+      for (int k = 0; k < 3; ++k) ++d.rim_off_[F(t, k) + 1];
+    for (int i = 0; i < n; ++i) d.rim_off_[i + 1] += d.rim_off_[i];
+    const int rims = d.rim_off_[n];
+    d.rim_l_.resize(rims);
+    d.rim_m_.resize(rims);
+    d.rim_c_.resize(rims);
+    std::vector<int> cursor(d.rim_off_.begin(), d.rim_off_.end() - 1);
+    for (Eigen::Index t = 0; t < m; ++t) {
+      Eigen::Matrix3d W;  // rows W_k
+      double face_energy = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::RowVector3d e = P.row(F(t, (k + 2) % 3)) - P.row(F(t, (k + 1) % 3));
+        W.row(k) = C(t, k) * e;
+        face_energy += C(t, k) * e.squaredNorm();
+      }
+      Eigen::Matrix3d G;
+      for (int k = 0; k < 3; ++k) G.row(k) = W.row((k + 1) % 3) - W.row((k + 2) % 3);
+      for (int k = 0; k < 3; ++k) {
+        const int a = F(t, k);
+        for (int kk = 1; kk <= 2; ++kk) {
+          const int kl = (k + kk) % 3, l = F(t, kl);
+          const int s = slot(a, l);
+          d.kappa_.row(s) += G.row(kl);
+          d.h_.row(s) += G.row(k) / 3.0;
+          d.w_[s] += C(t, 3 - k - kl);  // edge (a, l) is opposite the third corner
+        }
+        d.h_self_.row(a) += G.row(k) / 3.0;
+        d.a_rest_[a] += face_energy;
+        const int r = cursor[a]++;
+        d.rim_l_[r] = F(t, (k + 1) % 3);
+        d.rim_m_[r] = F(t, (k + 2) % 3);
+        d.rim_c_[r] = C(t, k);
+      }
+    }
+  }
+  // The global matrix from the same weights (eq. 12: Σ_j w_ij (x'_i − x'_j) = B_i).
+  for (int i = 0; i < n; ++i) {
+    int k = d.off_[i];
+    double diag = 0.0;
+    double* diag_value = nullptr;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(L, i); it; ++it) {
+      if (it.row() == i) {
+        diag_value = &it.valueRef();
+        continue;
+      }
+      const int j = static_cast<int>(it.row());
+      // Symmetric to the last bit: the lower-triangle weight is taken from the smaller index's slot.
+      const double w = j > i ? d.w_[k] : d.w_[slot(j, i)];
+      it.valueRef() = -w;
+      diag += w;
+      ++k;
+    }
+    if (diag_value) *diag_value = diag;
+  }
+  d.energy_scale_ = d.a_rest_.cwiseAbs().sum();
+
+  // Vertices that no face references: constrained at rest (or by their handle).
+  std::vector<char> referenced(n, 0);
+  for (Eigen::Index t = 0; t < m; ++t)
+    for (int k = 0; k < 3; ++k) referenced[F(t, k)] = 1;
+  std::vector<int> unref;
+  for (int i = 0; i < n; ++i)
+    if (!referenced[i]) unref.push_back(i);
+  d.unreferenced_ = Eigen::Map<Eigen::VectorXi>(unref.data(), static_cast<Eigen::Index>(unref.size()));
+
+  d.bind_handles(handles);
+
+  d.X_ = P;
+  d.rot_.assign(n, ga::Rot(1.0, 0.0, 0.0, 0.0));
+  d.Rm_.assign(n, Eigen::Matrix3d::Identity());
+  d.B_.setZero(n, 3);
+  return d;
+}
+
+void ArapDeformer::bind_handles(std::span<const Handle> handles) {
+  const int n = static_cast<int>(P_.rows());
+  std::vector<int> handle_of(n, -1);
+  std::vector<int> cons, cons_handle;
+  for (std::size_t h = 0; h < handles.size(); ++h)
+    for (Eigen::Index k = 0; k < handles[h].vertices.size(); ++k) {
+      handle_of[handles[h].vertices[k]] = static_cast<int>(h);
+      cons.push_back(handles[h].vertices[k]);
+      cons_handle.push_back(static_cast<int>(h));
+    }
+  for (Eigen::Index k = 0; k < unreferenced_.size(); ++k)
+    if (handle_of[unreferenced_[k]] < 0) {
+      cons.push_back(unreferenced_[k]);
+      cons_handle.push_back(-1);
+    }
+
+  // Every component needs a handle vertex (ogre.obj: 44 components).
+  int count = 0;
+  const Eigen::VectorXi comp = vertex_components(F_, n, &count);
+  std::vector<char> anchored(count, 0);
+  std::vector<int> size(count, 0), first(count, -1);
+  for (int i = 0; i < n; ++i) {
+    ++size[comp[i]];
+    if (first[comp[i]] < 0) first[comp[i]] = i;
+  }
+  for (int v : cons) anchored[comp[v]] = 1;
+  std::vector<int> missing;
+  for (int c = 0; c < count; ++c)
+    if (!anchored[c]) missing.push_back(c);
+  if (!missing.empty()) {
+    const int c = missing[0];
+    std::ostringstream s;
+    s << kWho << ": connected component " << c << " of " << count << " (" << size[c] << " vertices, e.g. vertex "
+      << first[c] << ") has no handle vertex, so its position is undetermined: add a handle on it";
+    if (missing.size() > 1) {
+      s << " (" << missing.size() << " components have none:";
+      for (std::size_t k = 0; k < std::min<std::size_t>(missing.size(), 8); ++k)
+        s << " " << missing[k] << " (vertex " << first[missing[k]] << ")";
+      if (missing.size() > 8) s << " ...";
+      s << ")";
+    }
+    throw Error(s.str());
+  }
+
+  DirichletSolver solver(options_.solver);
+  const Eigen::VectorXi constrained = Eigen::Map<Eigen::VectorXi>(cons.data(), static_cast<Eigen::Index>(cons.size()));
+  try {
+    solver.bind(L_, constrained, DirichletSolver::Kind::SPD);
+  } catch (const Error& e) {
+    throw Error(std::string(kWho) + ": " + e.what(), e.kind());
+  }
+  solver_ = std::move(solver);
+  constrained_ = constrained;
+  constrained_handle_ = Eigen::Map<Eigen::VectorXi>(cons_handle.data(), static_cast<Eigen::Index>(cons_handle.size()));
+  handle_sets_.clear();
+  handle_names_.clear();
+  for (const Handle& h : handles) {
+    handle_sets_.push_back(h.vertices);
+    handle_names_.push_back(h.name);
+  }
+  values_.setZero(constrained_.size(), 3);
+
+  has_harmonic_ = false;
+  if (options_.initial == ArapInitial::Harmonic) {
+    // §IV with cotangent weights: λ_j = 1 on handle j, 0 on the others (unreferenced vertices: any
+    // partition of unity, their positions are fixed anyway), one solve with k right-hand sides.
+    const Eigen::Index k = static_cast<Eigen::Index>(handles.size());
+    Eigen::MatrixXd lambda = Eigen::MatrixXd::Zero(constrained_.size(), k);
+    for (Eigen::Index r = 0; r < constrained_.size(); ++r) lambda(r, std::max(constrained_handle_[r], 0)) = 1.0;
+    MotorBlendField::Weights W = solver_.solve(lambda);
+    harmonic_ = MotorBlendField::bind(Eigen::MatrixXd(P_), std::move(W), ga::Blend::Log);
+    has_harmonic_ = true;
+  }
+}
+
+bool ArapDeformer::set_handles(std::span<const Handle> handles) {
+  if (handles.empty())
+    throw Error(std::string(kWho) + ": needs at least one handle (ARAP is determined only up to a rigid motion)");
+  check_handles(handles, P_.rows(), kWho);
+  // Same union of constrained vertices (handles + unreferenced) → keep the factorization.
+  std::vector<int> now(constrained_.data(), constrained_.data() + constrained_.size());
+  std::vector<int> next;
+  std::vector<char> in_handle(P_.rows(), 0);
+  for (const Handle& h : handles)
+    for (Eigen::Index k = 0; k < h.vertices.size(); ++k) next.push_back(h.vertices[k]), in_handle[h.vertices[k]] = 1;
+  for (Eigen::Index k = 0; k < unreferenced_.size(); ++k)
+    if (!in_handle[unreferenced_[k]]) next.push_back(unreferenced_[k]);
+  std::sort(now.begin(), now.end());
+  std::sort(next.begin(), next.end());
+  if (now != next) {
+    bind_handles(handles);
+    return true;
+  }
+  std::vector<int> handle_of(P_.rows(), -1);
+  for (std::size_t h = 0; h < handles.size(); ++h)
+    for (Eigen::Index k = 0; k < handles[h].vertices.size(); ++k) handle_of[handles[h].vertices[k]] = static_cast<int>(h);
+  for (Eigen::Index r = 0; r < constrained_.size(); ++r) constrained_handle_[r] = handle_of[constrained_[r]];
+  handle_sets_.clear();
+  handle_names_.clear();
+  for (const Handle& h : handles) {
+    handle_sets_.push_back(h.vertices);
+    handle_names_.push_back(h.name);
+  }
+  if (options_.initial == ArapInitial::Harmonic) {
+    const Eigen::Index k = static_cast<Eigen::Index>(handles.size());
+    Eigen::MatrixXd lambda = Eigen::MatrixXd::Zero(constrained_.size(), k);
+    for (Eigen::Index r = 0; r < constrained_.size(); ++r) lambda(r, std::max(constrained_handle_[r], 0)) = 1.0;
+    harmonic_ = MotorBlendField::bind(Eigen::MatrixXd(P_), MotorBlendField::Weights(solver_.solve(lambda)),
+                                      ga::Blend::Log);
+  }
+  return false;
+}
+
+double ArapDeformer::cell_energy_direct(Eigen::Index i, const Eigen::Matrix3d& R, const RowMatrix3& X) const {
+  double E = 0.0;
+  for (int k = off_[i]; k < off_[i + 1]; ++k) {
+    const int j = nbr_[k];
+    const Eigen::Vector3d r = (X.row(j) - X.row(i)).transpose() - R * (P_.row(j) - P_.row(i)).transpose();
+    E += w_[k] * r.squaredNorm();
+  }
+  if (!rim_off_.empty())
+    for (int k = rim_off_[i]; k < rim_off_[i + 1]; ++k) {
+      const int l = rim_l_[k], mm = rim_m_[k];
+      const Eigen::Vector3d r = (X.row(mm) - X.row(l)).transpose() - R * (P_.row(mm) - P_.row(l)).transpose();
+      E += rim_c_[k] * r.squaredNorm();
+    }
+  return E;
+}
+
+namespace {
+
+/// S_i = Σ_k κ_k (x'_j − x'_i)ᵀ and a'_i = Σ_k w_k |x'_j − x'_i|² + Σ_rims c |x'_m − x'_l|².
+[[gnu::always_inline]] inline void cell_covariance(Eigen::Index i, const int* off, const int* nbr, const double* w,
+                                                   const double* kappa, const int* rim_off, const int* rim_l,
+                                                   const int* rim_m, const double* rim_c, const double* X,
+                                                   Eigen::Matrix3d& S, double& ap) {
+  const double x0 = X[3 * i], x1 = X[3 * i + 1], x2 = X[3 * i + 2];
+  double s00 = 0, s01 = 0, s02 = 0, s10 = 0, s11 = 0, s12 = 0, s20 = 0, s21 = 0, s22 = 0, q = 0;
+  for (int k = off[i]; k < off[i + 1]; ++k) {
+    const double* xj = X + 3 * static_cast<Eigen::Index>(nbr[k]);
+    const double d0 = xj[0] - x0, d1 = xj[1] - x1, d2 = xj[2] - x2;
+    const double k0 = kappa[3 * k], k1 = kappa[3 * k + 1], k2 = kappa[3 * k + 2];
+    s00 += k0 * d0, s01 += k0 * d1, s02 += k0 * d2;
+    s10 += k1 * d0, s11 += k1 * d1, s12 += k1 * d2;
+    s20 += k2 * d0, s21 += k2 * d1, s22 += k2 * d2;
+    q += w[k] * (d0 * d0 + d1 * d1 + d2 * d2);
+  }
+  if (rim_off)
+    for (int k = rim_off[i]; k < rim_off[i + 1]; ++k) {
+      const double* xl = X + 3 * static_cast<Eigen::Index>(rim_l[k]);
+      const double* xm = X + 3 * static_cast<Eigen::Index>(rim_m[k]);
+      const double e0 = xm[0] - xl[0], e1 = xm[1] - xl[1], e2 = xm[2] - xl[2];
+      q += rim_c[k] * (e0 * e0 + e1 * e1 + e2 * e2);
+    }
+  S << s00, s01, s02, s10, s11, s12, s20, s21, s22;
+  ap = q;
+}
+
+}  // namespace
+
+double ArapDeformer::local_step() {
+  const Eigen::Index n = P_.rows();
+  const int* rim_off = rim_off_.empty() ? nullptr : rim_off_.data();
+  double total = 0.0;
+  Eigen::Index jacobi = 0;
+#pragma omp parallel for schedule(static) reduction(+ : total, jacobi) if (n >= kMinParallel)
+  for (Eigen::Index i = 0; i < n; ++i) {
+    Eigen::Matrix3d S;
+    double ap;
+    cell_covariance(i, off_.data(), nbr_.data(), w_.data(), kappa_.data(), rim_off, rim_l_.data(), rim_m_.data(),
+                    rim_c_.data(), X_.data(), S, ap);
+    RotationInfo info;
+    const ga::Rot q = best_rotation(S, rot_[i], &info);  // §VII: Horn's quaternion, largest eigenvector
+    jacobi += !info.fast;
+    const Eigen::Matrix3d R = rotation_matrix(q);
+    const double trRS = R.cwiseProduct(S.transpose()).sum();
+    // Cell energy Σ w |e' − R e|² = Σ w |e'|² + Σ w |e|² − 2 tr(R S); term by term where that cancels.
+    double E = a_rest_[i] + ap - 2.0 * trRS;
+    if (!(E > 1e-6 * (std::abs(a_rest_[i]) + std::abs(ap)))) E = cell_energy_direct(i, R, X_);
+    rot_[i] = q;
+    Rm_[i] = R;
+    total += E;
+  }
+  report_.jacobi_rotations += jacobi;
+  return total;
+}
+
+void ArapDeformer::global_step() {
+  const Eigen::VectorXi& fr = solver_.free();
+  const Eigen::Index nf = fr.size();
+  // Eq. (12): B_i = R_i h_i + Σ_j R_j h_ij (right-hand sides of the free vertices only).
+#pragma omp parallel for schedule(static) if (nf >= kMinParallel)
+  for (Eigen::Index r = 0; r < nf; ++r) {
+    const int i = fr[r];
+    Eigen::Vector3d b = Rm_[i] * h_self_.row(i).transpose();
+    for (int k = off_[i]; k < off_[i + 1]; ++k) b.noalias() += Rm_[nbr_[k]] * h_.row(k).transpose();
+    B_(i, 0) = b[0], B_(i, 1) = b[1], B_(i, 2) = b[2];
+  }
+  Xcol_ = solver_.solve(B_, values_);  // L_FF X_F = B_F − L_FC X_C, three columns at once (eq. 13)
+  X_ = Xcol_;
+}
+
+void ArapDeformer::pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out) {
+  const auto t0 = Clock::now();
+  const std::size_t k = handle_sets_.size();
+  if (motors.size() != k) {
+    std::ostringstream s;
+    s << kWho << ": pose() got " << motors.size() << " motors for " << k << " handles";
+    throw Error(s.str());
+  }
+  motors_.resize(k);
+  for (std::size_t j = 0; j < k; ++j) motors_[j] = unit_motor(motors[j], j, handle_names_[j]);
+  report_ = ArapReport{};
+
+  // Handles placed by their motors; unreferenced vertices stay at rest.
+  for (Eigen::Index r = 0; r < constrained_.size(); ++r) {
+    const int h = constrained_handle_[r];
+    const Eigen::Vector3d p = P_.row(constrained_[r]).transpose();
+    values_.row(r) = (h >= 0 ? ga::transform(motors_[h], p) : p).transpose();
+  }
+  const bool previous = options_.initial == ArapInitial::Previous && has_previous_;
+  if (!previous) {
+    if (options_.initial == ArapInitial::Harmonic && has_harmonic_) {
+      harmonic_.pose(motors_, Xcol_);
+      X_ = Xcol_;
+    } else {
+      X_ = P_;
+    }
+  }
+  for (Eigen::Index r = 0; r < constrained_.size(); ++r) X_.row(constrained_[r]) = values_.row(r);
+  report_.initial_ms = ms_since(t0);
+
+  double E_prev = 0.0;
+  int it = 0;
+  for (;; ++it) {
+    auto t = Clock::now();
+    const double E = local_step();  // E(X'_it) and the rotors for the next global step
+    report_.local_ms += ms_since(t);
+    if (!std::isfinite(E)) {
+      std::ostringstream s;
+      s << kWho << ": the energy is not finite at iteration " << it;
+      throw numerical_error(s.str());
+    }
+    report_.energy.push_back(E);
+    if (it > 0 && E_prev - E <= options_.tolerance * E_prev) {
+      report_.converged = true;
+      break;
+    }
+    if (E <= 1e-24 * energy_scale_) {
+      report_.converged = true;
+      break;
+    }
+    if (it == options_.iterations) break;
+    t = Clock::now();
+    global_step();
+    report_.global_ms += ms_since(t);
+    E_prev = E;
+  }
+  report_.iterations = it;
+  if (V_out.rows() != X_.rows() || V_out.cols() != 3) V_out.resize(X_.rows(), 3);
+  V_out = X_;
+  has_previous_ = true;
+}
+
+double ArapDeformer::energy(const Eigen::MatrixXd& V) const {
+  if (V.rows() != P_.rows() || V.cols() != 3) {
+    std::ostringstream s;
+    s << kWho << ": energy() got " << V.rows() << "x" << V.cols() << " positions for " << P_.rows() << " vertices";
+    throw Error(s.str());
+  }
+  const RowMatrix3 X = V;
+  const Eigen::Index n = P_.rows();
+  const int* rim_off = rim_off_.empty() ? nullptr : rim_off_.data();
+  double total = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : total) if (n >= kMinParallel)
+  for (Eigen::Index i = 0; i < n; ++i) {
+    Eigen::Matrix3d S;
+    double ap;
+    cell_covariance(i, off_.data(), nbr_.data(), w_.data(), kappa_.data(), rim_off, rim_l_.data(), rim_m_.data(),
+                    rim_c_.data(), X.data(), S, ap);
+    total += cell_energy_direct(i, rotation_matrix(best_rotation(S)), X);
+  }
+  return total;
+}
+
+}  // namespace spinmotor
