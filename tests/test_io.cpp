@@ -15,6 +15,7 @@
 #include "spinmotor/error.hpp"
 #include "spinmotor/mesh/atomic_file.hpp"
 #include "spinmotor/mesh/io.hpp"
+#include "spinmotor/mesh/openmesh_interop.hpp"
 
 using namespace spinmotor;
 namespace fs = std::filesystem;
@@ -464,4 +465,33 @@ TEST_CASE("a corrupt header announcing 2^31 elements is a truncation error, not 
               "property float y\nproperty float z\nelement face 2000000000\n"
               "property list uchar int vertex_indices\nend_header\n0123456789");
   CHECK_THAT(error_of([&] { read_mesh(dir / "big.ply"); }), Catch::Contains("truncated"));
+}
+
+TEST_CASE("openmesh_interop: to_openmesh and back keeps positions, faces (up to rotation) and UVs",
+          "[io][openmesh]") {
+  const Mesh m = octahedron();
+  const OpenMeshTriMesh om = to_openmesh(m);
+  CHECK(om.n_vertices() == 6);
+  CHECK(om.n_faces() == 8);
+  CHECK(om.n_edges() == 12);
+  for (const auto vh : om.vertices()) CHECK_FALSE(om.is_boundary(vh));
+  const Mesh r = from_openmesh(om);
+  CHECK(r.V == m.V);  // doubles kept exactly (OpenMeshTraits points are Vec3d)
+  REQUIRE(r.F.rows() == 8);
+  for (Eigen::Index f = 0; f < 8; ++f) {
+    int shift = 0;  // the rotation of face f's corners
+    while (shift < 3 && r.F(f, 0) != m.F(f, shift)) ++shift;
+    REQUIRE(shift < 3);
+    for (int c = 0; c < 3; ++c) {
+      CHECK(r.F(f, c) == m.F(f, (c + shift) % 3));
+      CHECK(r.UV.row(r.FUV(f, c)) == m.UV.row(m.FUV(f, (c + shift) % 3)));
+    }
+  }
+  CHECK(r.UV.rows() == 8);  // the octahedron's 8 distinct UVs
+
+  Mesh nm = m;  // a third face on edge (0, 2): OpenMesh refuses it, the error names it
+  nm.F.conservativeResize(9, 3);
+  nm.F.row(8) << 0, 2, 5;
+  nm.FUV.resize(0, 3);
+  CHECK_THAT(error_of([&] { to_openmesh(nm); }), Catch::Contains("cannot add face 8 (0, 2, 5)"));
 }
