@@ -175,6 +175,18 @@ TEST_CASE("small rotations are not lost (Versor's exp drops |B| < 1e-4)", "[ga][
   }
 }
 
+TEST_CASE("log of a rotation is -½θ n to full relative precision (Versor loses ~1e-6 near 0)", "[ga][motor][log]") {
+  std::mt19937 g(10);
+  for (double angle : {3.0, 1.0, 1e-3, 1e-6, 1e-9, 1e-12, 1e-200}) {
+    const Vector3d n = random_unit(g);
+    const Dll b = log(Mot(rotor(n, angle)));
+    const Vector3d w(b[2], b[1], b[0]);  // ω = (e23, e31, e12) components
+    INFO("angle " << angle);
+    CHECK((w + 0.5 * angle * n).norm() <= 1e-15 * 0.5 * angle);  // a few ulp
+    CHECK(max_abs(Dll(0, 0, 0, b[3], b[4], b[5])) == 0.0);
+  }
+}
+
 TEST_CASE("log(exp(B)) = B for rotation angles below π, and screws", "[ga][motor][log]") {
   std::mt19937 g(5);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

@@ -6,7 +6,7 @@
 // and denotes the outer product of its vectors in that order (e.g. 0b10011 = e1 ∧ e2 ∧ inf). Because
 // o and inf are the two highest bits, every blade is (Euclidean blade) ∧ (one of 1, o, inf, o∧inf),
 // and the geometric product of two blades is at most two blades (o inf = -1 + o∧inf); see
-// detail::blade_product below, which is the whole metric of the algebra.
+// detail::blade_gp below, which is the whole metric of the algebra.
 //
 // A multivector type MV<B...> is a compile-time list of *basis elements*: a blade mask plus an
 // orientation bit (kNeg), so that a type may store e.g. e31 = -e13 or the quaternion units
@@ -21,6 +21,14 @@
 #include <cstdint>
 #include <type_traits>
 #include <utility>
+
+// Everything in ga is small and meant to be inlined into straight-line code; the product bodies are
+// forced inline so that the per-term coefficients (±1) fold into adds and subtracts.
+#if defined(__GNUC__)
+#define SPINMOTOR_GA_INLINE [[gnu::always_inline]] inline
+#else
+#define SPINMOTOR_GA_INLINE inline
+#endif
 
 namespace spinmotor::ga {
 
@@ -161,11 +169,9 @@ struct MV {
       : c{static_cast<double>(v)...} {}
   /// Exact embedding of a type whose blades are a subset of ours (missing blades are zero).
   template <Basis... A>
-  requires((MV<A...>::blade_set & ~blade_set) == 0 &&
-           !std::is_same_v<MV<A...>, MV<B...>>) constexpr MV(const MV<A...>& a) {
-    [&]<std::size_t... i>(std::index_sequence<i...>) { ((c[i] = a.template get<basis[i]>()), ...); }
-    (std::make_index_sequence<size>{});
-  }
+  requires((MV<A...>::blade_set & ~blade_set) == 0 && !std::is_same_v<MV<A...>, MV<B...>>) SPINMOTOR_GA_INLINE
+      constexpr MV(const MV<A...>& a)
+      : MV(a, std::make_index_sequence<size>{}) {}
 
   /// Position of a blade mask in the basis list, or -1.
   static constexpr int index_of(unsigned mask) {
@@ -206,6 +212,11 @@ struct MV {
   Eigen::Vector3d vec() const requires is_quaternion { return {c[1], c[2], c[3]}; }
   /// The four components (w, x, y, z), real part first (the project's n×4 layout).
   Eigen::Vector4d coeffs() const requires is_quaternion { return {c[0], c[1], c[2], c[3]}; }
+
+ private:
+  template <Basis... A, std::size_t... i>
+  SPINMOTOR_GA_INLINE constexpr MV(const MV<A...>& a, std::index_sequence<i...>)
+      : c{a.template get<basis[i]>()...} {}
 };
 
 /// Bit set of the blades of a multivector type.

@@ -24,38 +24,75 @@ namespace spinmotor::ga {
 
 enum class Blend { Log, PivotLog, Linear };
 
+namespace detail {
+
+/// Σ w_i log(M_i X) over the motors with a non-zero weight and an index other than `skip`
+/// (X = 1 for Log, ~M_p for PivotLog), four logarithms at a time in SIMD lanes.
+template <bool Relative>
+Dll weighted_log_sum(std::span<const Mot> motors, std::span<const double> weights, const Mot& x,
+                     std::size_t skip) {
+  using A = Lanes<4>;
+  static constexpr Mot identity(1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);  // log = 0: fills unused lanes
+  A acc[6] = {A::Zero(), A::Zero(), A::Zero(), A::Zero(), A::Zero(), A::Zero()};
+  const std::size_t n = motors.size();
+  for (std::size_t i = 0; i < n;) {
+    const Mot* lane[4] = {&identity, &identity, &identity, &identity};
+    [[maybe_unused]] Mot relative[4];
+    double w[4] = {0.0, 0.0, 0.0, 0.0};
+    for (int l = 0; l < 4 && i < n; ++i) {
+      if (weights[i] == 0.0 || i == skip) continue;
+      if constexpr (Relative) {
+        relative[l] = motors[i] * x;
+        lane[l] = &relative[l];
+      } else {
+        lane[l] = &motors[i];
+      }
+      w[l++] = weights[i];
+    }
+    // transpose into lanes, with the canonical sign (scalar part ≥ 0) applied without branches
+    const A sign(std::copysign(1.0, (*lane[0])[0]), std::copysign(1.0, (*lane[1])[0]),
+                 std::copysign(1.0, (*lane[2])[0]), std::copysign(1.0, (*lane[3])[0]));
+    A in[8], out[6];
+    for (std::size_t j = 0; j < 8; ++j)
+      in[j] = sign * A((*lane[0])[j], (*lane[1])[j], (*lane[2])[j], (*lane[3])[j]);
+    log_kernel(in, out);
+    const A wl(w[0], w[1], w[2], w[3]);
+    for (int j = 0; j < 6; ++j) acc[j] += wl * out[j];
+  }
+  return Dll(acc[0].sum(), acc[1].sum(), acc[2].sum(), acc[3].sum(), acc[4].sum(), acc[5].sum());
+}
+
+/// The index of the largest weight (the first one on ties), without data-dependent branches.
+inline std::size_t pivot(std::span<const double> weights) {
+  std::size_t p = 0;
+  for (std::size_t i = 1; i < weights.size(); ++i) p = weights[i] > weights[p] ? i : p;
+  return p;
+}
+
+/// DLB for motors: normalize(Σ w_i s_i M_i) with s_i the sign of <M_p ~M_i>_0.
+inline Mot linear_blend(std::span<const Mot> motors, std::span<const double> weights, std::size_t p) {
+  Mot acc;
+  const Mot& mp = motors[p];
+  for (std::size_t i = 0; i < motors.size(); ++i) {
+    const Mot& mi = motors[i];
+    // the sign of <M_p ~M_i>_0, the quaternion dot product of the rotor parts
+    const double d = mp[0] * mi[0] + mp[1] * mi[1] + mp[2] * mi[2] + mp[3] * mi[3];
+    acc += (std::copysign(1.0, d) * weights[i]) * mi;  // (copysign: random signs defeat branches)
+  }
+  return normalize(acc);
+}
+
+}  // namespace detail
+
 inline Mot blend(std::span<const Mot> motors, std::span<const double> weights, Blend mode) {
   const std::size_t n = motors.size();
   if (n == 0 || weights.size() != n)
     throw std::invalid_argument("ga::blend: needs as many weights as motors, and at least one motor");
-  std::size_t p = 0;
-  for (std::size_t i = 1; i < n; ++i)
-    if (weights[i] > weights[p]) p = i;
-  switch (mode) {
-    case Blend::Log: {
-      Dll acc;
-      for (std::size_t i = 0; i < n; ++i)
-        if (weights[i] != 0.0) acc += weights[i] * log(motors[i]);
-      return exp(acc);
-    }
-    case Blend::PivotLog: {
-      const Mot inv = reverse(motors[p]);
-      Dll acc;
-      for (std::size_t i = 0; i < n; ++i)
-        if (i != p && weights[i] != 0.0) acc += weights[i] * log(motors[i] * inv);
-      return exp(acc) * motors[p];
-    }
-    case Blend::Linear:
-    default: {
-      Mot acc;
-      const Mot rp = reverse(motors[p]);
-      for (std::size_t i = 0; i < n; ++i) {
-        const double d = scalar(motors[i], rp);  // the quaternion dot product of the rotor parts
-        acc += (std::signbit(d) ? -weights[i] : weights[i]) * motors[i];
-      }
-      return normalize(acc);
-    }
-  }
+  if (mode == Blend::Log) return exp(detail::weighted_log_sum<false>(motors, weights, Mot(), n));
+  const std::size_t p = detail::pivot(weights);
+  if (mode == Blend::PivotLog)  // log(M_p ~M_p) = 0: the pivot itself is skipped
+    return exp(detail::weighted_log_sum<true>(motors, weights, reverse(motors[p]), p)) * motors[p];
+  return detail::linear_blend(motors, weights, p);
 }
 
 }  // namespace spinmotor::ga

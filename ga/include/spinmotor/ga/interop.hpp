@@ -14,13 +14,13 @@
 namespace spinmotor::ga {
 
 /// The rotor part of a motor as a quaternion (the real part of its dual quaternion).
-inline Quat rotor_part(const Mot& m) { return Quat(m[0], -m[3], -m[2], -m[1]); }
+SPINMOTOR_GA_INLINE Quat rotor_part(const Mot& m) { return Quat(m[0], -m[3], -m[2], -m[1]); }
 
 /// The dual part of a motor's dual quaternion, q_d = ½ t q_r.
 inline Quat dual_part(const Mot& m) { return Quat(-m[7], -m[4], -m[5], -m[6]); }
 
 /// The translation t of a unit motor (applied after its rotation): t = 2 vec(q_d q̄_r).
-inline Eigen::Vector3d translation(const Mot& m) {
+SPINMOTOR_GA_INLINE Eigen::Vector3d translation(const Mot& m) {
   const double w = m[0], rx = -m[3], ry = -m[2], rz = -m[1];
   const double d0 = -m[7], dx = -m[4], dy = -m[5], dz = -m[6];
   // 2 (w d - d0 r + r × d)
@@ -28,9 +28,18 @@ inline Eigen::Vector3d translation(const Mot& m) {
           2.0 * (w * dz - d0 * rz + rx * dy - ry * dx)};
 }
 
-/// The point M x ~M for a unit motor M (rotate by the rotor part, add the translation).
-inline Eigen::Vector3d transform(const Mot& m, const Eigen::Vector3d& x) {
-  return rotate(rotor_part(m), x) + translation(m);
+/// The point M x ~M for a unit motor M: R x + t with R the rotation matrix of the rotor part and t
+/// the translation. Written on scalars so that, inlined into a loop over points with a fixed M, the
+/// matrix and t are hoisted into registers: the per-point cost is that of Isometry3d * x.
+SPINMOTOR_GA_INLINE Eigen::Vector3d transform(const Mot& m, const Eigen::Vector3d& p) {
+  const double w = m[0], x = -m[3], y = -m[2], z = -m[1];  // the rotor as a quaternion
+  const Eigen::Vector3d t = translation(m);
+  const double xx = x * x, yy = y * y, zz = z * z, xy = x * y, xz = x * z, yz = y * z;
+  const double wx = w * x, wy = w * y, wz = w * z;
+  const double px = p.x(), py = p.y(), pz = p.z();
+  return {(1.0 - 2.0 * (yy + zz)) * px + 2.0 * (xy - wz) * py + 2.0 * (xz + wy) * pz + t.x(),
+          2.0 * (xy + wz) * px + (1.0 - 2.0 * (xx + zz)) * py + 2.0 * (yz - wx) * pz + t.y(),
+          2.0 * (xz - wy) * px + 2.0 * (yz + wx) * py + (1.0 - 2.0 * (xx + yy)) * pz + t.z()};
 }
 
 /// (real, dual) unit dual quaternion of a motor, dual = ½ t real.

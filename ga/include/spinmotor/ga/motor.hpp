@@ -9,17 +9,22 @@
 //
 //   exp(B) = cos φ + sinc φ I3 ω + [sinc φ v + c2(φ) (v·ω) ω] inf + sinc φ (v·ω) I3 inf      (E)
 //
-// with sinc φ = sin φ / φ and c2(φ) = (cos φ - sinc φ)/φ² (both even, smooth, evaluated by series for
-// φ < 0.1, no division by small numbers). exp(I3 ω) = cos φ + sin φ I3 ω̂ rotates by -2φ about ω̂:
-// the rotation by θ about a unit axis n is ω = -½θ n (B = ½θ L* for the line L through the origin
-// along n, see line()); a pure translation by t is ω = 0, v = -½t. The logarithm inverts (E) component by
-// component after choosing the sign of M with scalar part ≥ 0 (M and -M are the same motion, so φ ∈ [0, π/2]
-// and sinc φ ≥ 2/π):
+// with sinc φ = sin φ / φ and c2(φ) = (cos φ - sinc φ)/φ². exp(I3 ω) = cos φ + sin φ I3 ω̂ rotates by
+// -2φ about ω̂: the rotation by θ about a unit axis n is ω = -½θ n (B = ½θ L* for the line L through
+// the origin along n, see line()); a pure translation by t is ω = 0, v = -½t.
 //
-//   φ = atan2(|β|, s),  ω = β / sinc φ,  v·ω = q / sinc φ,  v = (u - c2(φ) (v·ω) ω) / sinc φ
+// The logarithm inverts (E) component by component after choosing the sign of M with scalar part
+// s ≥ 0 (M and -M are the same motion, so φ ∈ [0, π/2] and sinc φ ≥ 2/π). Writing
+// M = s + I3 β + u∧inf + q I3 inf (unit rotor part),
 //
-// where M = s + I3 β + u∧inf + q I3 inf. 180° rotations (s = 0), rotor angles near 2π (s near -1),
-// pure translations (β = 0, exact round trip) and screws need no special case.
+//   φ = atan2(|β|, s),  ω = β / sinc φ,  v·ω = q / sinc φ,  v = (u - c2(φ) (v·ω) ω) / sinc φ.
+//
+// The only small divisor is the φ² of c2, and c2 is only ever multiplied by (v·ω) ω, of size |v| φ²:
+// its cancellation for small φ costs at most an absolute |v|·ulp. 180° rotations (s = 0), rotor
+// angles near 2π (s near -1: the sign flip takes the short way), pure translations (β = 0: exact
+// round trip) and screws need no special case. No acos (ill-conditioned near s = ±1), no atan2 call
+// (see detail::log_kernel), no branch on the angle.
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -29,20 +34,131 @@ namespace spinmotor::ga {
 
 namespace detail {
 
-/// sin φ / φ as a series in x = φ² (x < 0.01: truncation below 1e-18).
-constexpr double sinc_series(double x) {
-  return 1.0 - x / 6.0 * (1.0 - x / 20.0 * (1.0 - x / 42.0 * (1.0 - x / 72.0 * (1.0 - x / 110.0))));
+/// Taylor coefficients in x = φ² of cos φ = Σ (-x)^k/(2k)!, sinc φ = Σ (-x)^k/(2k+1)! and
+/// c2(φ) = (cos φ - sinc φ)/φ² = Σ (-1)^(k+1) (2k+2) x^k/(2k+3)!, enough terms for |φ| ≤ 1.6
+/// (x ≤ 2.56: the first omitted terms are below 2e-18).
+struct ExpSeries {
+  std::array<double, 12> cos{};
+  std::array<double, 11> sinc{}, c2{};
+  constexpr ExpSeries() {
+    double f = 1.0;  // f = 1/n!, n = 0, 1, 2, ...
+    for (int n = 0; n <= 23; ++n) {
+      if (n > 0) f /= n;
+      const int k = n / 2;
+      const double sign = (k % 2) ? -1.0 : 1.0;
+      if (n % 2 == 0 && k < 12) cos[static_cast<std::size_t>(k)] = sign * f;
+      if (n % 2 == 1 && k < 11) sinc[static_cast<std::size_t>(k)] = sign * f;
+      if (n % 2 == 1 && n >= 3 && k - 1 < 11) c2[static_cast<std::size_t>(k - 1)] = sign * (n - 1) * f;
+    }
+  }
+};
+inline constexpr ExpSeries kExpSeries{};
+inline constexpr double kExpSeriesMax = 2.56;
+
+/// Σ_i c[first + 2i] y^i over i < sizeof...(I) + 1, by Horner's rule unrolled at compile time.
+template <std::size_t N, std::size_t... I>
+constexpr double horner2(const std::array<double, N>& c, std::size_t first, double y,
+                         std::index_sequence<I...>) {
+  constexpr std::size_t top = sizeof...(I);
+  double acc = c[first + 2 * top];
+  ((acc = acc * y + c[first + 2 * (top - 1 - I)]), ...);
+  return acc;
 }
-/// cos φ as a series in x = φ² (x < 0.01).
-constexpr double cos_series(double x) {
-  return 1.0 - x / 2.0 * (1.0 - x / 12.0 * (1.0 - x / 30.0 * (1.0 - x / 56.0 * (1.0 - x / 90.0))));
+
+/// c[0] + c[1] x + ... + c[N-1] x^(N-1) as two Horner chains in x² (half the latency of one).
+template <std::size_t N>
+constexpr double poly(const std::array<double, N>& c, double x) {
+  static_assert(N >= 2);
+  const double x2 = x * x;
+  return horner2(c, 0, x2, std::make_index_sequence<(N + 1) / 2 - 1>{}) +
+         x * horner2(c, 1, x2, std::make_index_sequence<N / 2 - 1>{});
 }
-/// (cos φ - sinc φ) / φ² = Σ_{k≥1} (-1)^k 2k x^{k-1} / (2k+1)! as a series in x = φ² (x < 0.01).
-constexpr double c2_series(double x) {
-  return -1.0 / 3.0 *
-         (1.0 - x / 10.0 * (1.0 - x / 28.0 * (1.0 - x / 54.0 * (1.0 - x / 88.0 * (1.0 - x / 130.0)))));
+
+/// cos φ, sinc φ = sin φ / φ and c2(φ) from x = φ² ≥ 0: polynomials for |φ| ≤ 1.6 (no sqrt, no
+/// division, no libm call: the exponential of a blended generator sits at the end of a long
+/// dependency chain), std::sin and std::cos beyond.
+inline void exp_coefficients(double x, double& cs, double& k, double& c2) {
+  if (x <= kExpSeriesMax) {
+    cs = poly(kExpSeries.cos, x);
+    k = poly(kExpSeries.sinc, x);
+    c2 = poly(kExpSeries.c2, x);
+  } else {
+    const double phi = std::sqrt(x);
+    cs = std::cos(phi);
+    k = std::sin(phi) / phi;
+    c2 = (cs - k) / x;
+  }
 }
-inline constexpr double kSeriesBelow = 0.01;  // use the series when φ² < this
+
+/// log_kernel works on doubles (T = double: log(const Mot&)) or on SIMD lanes, one motor per lane
+/// (T = Eigen::Array4d: the four-at-a-time logarithms of blend()). It is straight-line arithmetic, so
+/// Eigen vectorises every operation of the lane version.
+template <int L>
+using Lanes = Eigen::Array<double, L, 1>;
+
+inline double lane_sqrt(double x) { return std::sqrt(x); }
+template <class T>
+SPINMOTOR_GA_INLINE auto lane_sqrt(const Eigen::ArrayBase<T>& x) {
+  return x.sqrt().eval();
+}
+inline bool positive_finite(double x) { return x > 0.0 && std::isfinite(x); }
+template <class T>
+SPINMOTOR_GA_INLINE bool positive_finite(const Eigen::ArrayBase<T>& x) {
+  return x.minCoeff() > 0.0 && std::isfinite(x.sum());  // a NaN or inf lane makes the sum non-finite
+}
+
+/// atan(t) / t = 1 - S(t²) for |t| < 0.4375: the unreduced branch of fdlibm's s_atan.c (< 1 ulp),
+/// whose minimax coefficients are used here under this notice:
+///   Copyright (C) 1993 by Sun Microsystems, Inc. All rights reserved.
+///   Developed at SunSoft, a Sun Microsystems, Inc. business.
+///   Permission to use, copy, modify, and distribute this software is freely granted, provided that
+///   this notice is preserved.
+/// (Not std::atan2: it does not vectorise, and glibc's atan2 wrapper is legacy-SSE code whose AVX-SSE
+/// transition stalls made the log blend 4x slower.)
+template <class T>
+SPINMOTOR_GA_INLINE T atan_ratio(const T& t) {
+  constexpr double aT[11] = {
+      3.33333333333329318027e-01,  -1.99999999998764832476e-01, 1.42857142725034663711e-01,
+      -1.11111104054623557880e-01, 9.09088713343650656196e-02,  -7.69187620504482999495e-02,
+      6.66107313738753120669e-02,  -5.83357013379057348645e-02, 4.97687799461593236017e-02,
+      -3.65315727442169155270e-02, 1.62858201153657823623e-02};
+  const T z = t * t;
+  const T w = z * z;
+  const T s1 = z * (aT[0] + w * (aT[2] + w * (aT[4] + w * (aT[6] + w * (aT[8] + w * aT[10])))));
+  const T s2 = w * (aT[1] + w * (aT[3] + w * (aT[5] + w * (aT[7] + w * aT[9]))));
+  return 1.0 - (s1 + s2);
+}
+
+/// The generators (Dll order) of motors given by their 8 components (Mot order) with scalar part
+/// m[0] ≥ 0. Invariant to a positive scale of the motor. Throws std::domain_error when a rotor part is
+/// zero or not finite. With ρ = |rotor part|, b = |β|, the half-angle tangents
+///   t1 = tan(φ/2) = b / (ρ + s) ∈ [0, 1],   t2 = tan(φ/4) = t1 / (1 + sqrt(1 + t1²)) ∈ [0, tan(π/8)]
+/// bring φ = 4 atan(t2) into the range of fdlibm's polynomial atan(t) = t (1 - S(t²)), and
+///   r = φ / b = 4 (1 - S) / ((ρ + s)(1 + sqrt(1 + t1²))) = 1 / (ρ sinc φ)
+/// needs no division by b (nor any branch): ω = r β, v·ω = r q, v = r u - g (v·ω) ω with
+/// g = ρ r c2(φ) = (s r - 1) / φ².
+template <class T>
+SPINMOTOR_GA_INLINE void log_kernel(const T (&m)[8], T (&out)[6]) {
+  const T b2 = m[1] * m[1] + m[2] * m[2] + m[3] * m[3];
+  const T rho2 = m[0] * m[0] + b2;
+  if (!positive_finite(rho2))
+    throw std::domain_error("ga::log: the motor's rotor part is zero or not finite");
+  const T b = lane_sqrt(b2);
+  const T d1 = 1.0 / (lane_sqrt(rho2) + m[0]);  // 1 / (ρ + s), ρ + s ≥ ρ > 0
+  const T t1 = b * d1;
+  const T d2 = 1.0 / (1.0 + lane_sqrt(1.0 + t1 * t1));
+  const T t2 = t1 * d2;
+  const T r = 4.0 * atan_ratio(t2) * (d1 * d2);  // φ / b
+  const T phi = r * b;
+  const T g = (m[0] * r - 1.0) / (phi * phi + 1e-300);  // the guard only turns 0/0 into 0 at φ = 0
+  out[0] = r * m[1];                                    // ω_z
+  out[1] = r * m[2];                                    // ω_y
+  out[2] = r * m[3];                                    // ω_x
+  const T gv = g * (r * m[7]);                          // g (v·ω)
+  out[3] = r * m[4] - gv * out[2];
+  out[4] = r * m[5] - gv * out[1];
+  out[5] = r * m[6] - gv * out[0];
+}
 
 }  // namespace detail
 
@@ -54,25 +170,15 @@ inline Mot normalize(const Mot& m) {
   const double alpha = n.get<blade::s>(), beta = n.get<blade::e123ni>();
   if (!(alpha > 0.0) || !std::isfinite(alpha))
     throw std::domain_error("ga::normalize: the motor's rotor part is zero or not finite");
-  const double a = 1.0 / std::sqrt(alpha);
-  return m * MV<blade::s, blade::e123ni>{a, -0.5 * beta / alpha * a};
+  const double a = 1.0 / std::sqrt(alpha);  // α^{-1/2}; β/(2α) α^{-1/2} = ½ β a³
+  return m * MV<blade::s, blade::e123ni>{a, -0.5 * beta * (a * a * a)};
 }
 
 /// The motor exp(B) of a generator B = I3 ω + v∧inf, formula (E) above.
 inline Mot exp(const Dll& b) {
   const double wz = b[0], wy = b[1], wx = b[2], vx = b[3], vy = b[4], vz = b[5];
-  const double x = wx * wx + wy * wy + wz * wz;
   double cs, k, c2;
-  if (x < detail::kSeriesBelow) {
-    cs = detail::cos_series(x);
-    k = detail::sinc_series(x);
-    c2 = detail::c2_series(x);
-  } else {
-    const double phi = std::sqrt(x);
-    cs = std::cos(phi);
-    k = std::sin(phi) / phi;
-    c2 = (cs - k) / x;
-  }
+  detail::exp_coefficients(wx * wx + wy * wy + wz * wz, cs, k, c2);
   const double vw = vx * wx + vy * wy + vz * wz, cv = c2 * vw;
   return Mot(cs, k * wz, k * wy, k * wx, k * vx + cv * wx, k * vy + cv * wy, k * vz + cv * wz, k * vw);
 }
@@ -81,33 +187,17 @@ inline Mot exp(const Dll& b) {
 /// way round; M and -M give the same B). Invariant to a positive scale of M. Throws std::domain_error
 /// when the rotor part of M is zero (M is not a motor).
 inline Dll log(const Mot& m) {
-  const double sg = std::signbit(m[0]) ? -1.0 : 1.0;  // canonical sign: scalar part ≥ 0
-  const double b2 = m[1] * m[1] + m[2] * m[2] + m[3] * m[3];
-  const double rho2 = m[0] * m[0] + b2;
-  if (!(rho2 > 0.0) || !std::isfinite(rho2))
-    throw std::domain_error("ga::log: the motor's rotor part is zero or not finite");
-  const double inv = sg / std::sqrt(rho2);  // 1 exactly for a unit rotor part (pure translations)
-  const double s = inv * m[0], bn = std::abs(inv) * std::sqrt(b2);
-  const double phi = std::atan2(bn, s);  // in [0, π/2]
-  const double x = phi * phi;
-  double k, c2;
-  if (x < detail::kSeriesBelow) {
-    k = detail::sinc_series(x);
-    c2 = detail::c2_series(x);
-  } else {
-    k = bn / phi;
-    c2 = (s - k) / x;
-  }
-  const double ik = inv / k;  // k ≥ 2/π
-  const double wz = ik * m[1], wy = ik * m[2], wx = ik * m[3];
-  const double vw = ik * m[7], cv = c2 * vw;
-  return Dll(wz, wy, wx, (inv * m[4] - cv * wx) / k, (inv * m[5] - cv * wy) / k, (inv * m[6] - cv * wz) / k);
+  const double sg = std::copysign(1.0, m[0]);  // canonical sign: scalar part ≥ 0
+  double in[8], out[6];
+  for (std::size_t j = 0; j < 8; ++j) in[j] = sg * m[j];
+  detail::log_kernel(in, out);
+  return Dll(out[0], out[1], out[2], out[3], out[4], out[5]);
 }
 
 /// The square root of the motion: the unit motor S along the shortest screw with S S = M when
 /// <M>_0 ≥ 0 and S S = -M otherwise (the same motion). Dorst & Valkenburg: S = (1 + M)/|1 + M|.
 inline Mot sqrt(const Mot& m) {
-  Mot a = std::signbit(m[0]) ? -m : m;
+  Mot a = std::copysign(1.0, m[0]) * m;
   a[0] += 1.0;
   return normalize(a);
 }
@@ -117,31 +207,16 @@ inline Mot sclerp(const Mot& a, const Mot& b, double t) { return a * exp(t * log
 
 /// Rotor exponential: exp(I3 ω) = cos|ω| + sinc|ω| I3 ω, the rotation by -2|ω| about ω̂.
 inline Rot exp(const Biv& b) {
-  const double x = b[0] * b[0] + b[1] * b[1] + b[2] * b[2];
-  double cs, k;
-  if (x < detail::kSeriesBelow) {
-    cs = detail::cos_series(x);
-    k = detail::sinc_series(x);
-  } else {
-    const double phi = std::sqrt(x);
-    cs = std::cos(phi);
-    k = std::sin(phi) / phi;
-  }
+  double cs, k, c2;
+  detail::exp_coefficients(b[0] * b[0] + b[1] * b[1] + b[2] * b[2], cs, k, c2);
   return cast<Rot>(Sca(cs) + k * b);
 }
 
 /// Rotor logarithm (short way round, sign canonicalised like the motor log). Throws std::domain_error
 /// on a zero rotor.
 inline Biv log(const Rot& r) {
-  const double sg = std::signbit(r.w()) ? -1.0 : 1.0;
-  const double b2 = r.x() * r.x() + r.y() * r.y() + r.z() * r.z(), rho2 = r.w() * r.w() + b2;
-  if (!(rho2 > 0.0) || !std::isfinite(rho2))
-    throw std::domain_error("ga::log: the rotor is zero or not finite");
-  const double inv = sg / std::sqrt(rho2);
-  const double phi = std::atan2(std::abs(inv) * std::sqrt(b2), inv * r.w());
-  const double x = phi * phi;
-  const double k = x < detail::kSeriesBelow ? detail::sinc_series(x) : std::abs(inv) * std::sqrt(b2) / phi;
-  return (inv / k) * cast<Biv>(r);
+  const Dll b = log(Mot(r));
+  return Biv(b[0], b[1], b[2]);
 }
 
 }  // namespace spinmotor::ga
