@@ -1,0 +1,72 @@
+#pragma once
+// LUSolver: sparse non-symmetric systems A X = B through SuperLU 5 (supernodal LU with partial
+// pivoting), e.g. the mean-value Laplacian (mean_value_laplacian.hpp).
+//
+// Same shape as CholeskySolver: analyze() computes the fill-reducing column ordering from A's
+// pattern; factorize() computes P_r A P_c = L U for a matrix with that pattern (call it again when
+// only the values change); solve() takes all right-hand sides at once (n×k).
+//
+// Column ordering: COLAMD by default. MMD on AᵀA or Aᵀ+A (SuperLU's other choices) was measured
+// ~40× slower on the 4n×4n quaternionic systems of the spin module (DESIGN.md), and COLAMD is also
+// the fastest on mesh Laplacians (bench_laplacian). The ordering is computed once per analyze().
+// Row pivoting: threshold partial pivoting with `pivot_threshold` (1 = classical partial pivoting;
+// smaller values prefer the diagonal, which keeps the column ordering's sparsity on diagonally
+// dominant matrices such as Laplacians).
+//
+// SuperLU is called directly (dgstrf/dgstrs) instead of through Eigen/SuperLUSupport because that
+// wrapper recomputes the column ordering on every factorize(), resets the options and does not report
+// which pivot failed.
+//
+// Failures throw spinmotor::Error: BadInput as for CholeskySolver; Numerical "matrix is singular
+// (SuperLU: zero pivot in column j, ...)" naming the column and its connected component in the matrix
+// graph, also when the reciprocal condition number estimate (dgscon, 1-norm) is below machine epsilon
+// (numerically singular) and when the solution is not finite.
+// Not thread-safe: one solver object per thread.
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <memory>
+
+namespace spinmotor {
+
+class LUSolver {
+public:
+  enum class Ordering { Natural, COLAMD, MMD_AtA, MMD_AtPlusA };
+
+  struct Options {
+    Ordering ordering = Ordering::COLAMD;
+    double pivot_threshold = 1.0;  ///< in [0, 1]: SuperLU's DiagPivotThresh
+  };
+
+  LUSolver();
+  explicit LUSolver(const Options& options);
+  ~LUSolver();
+  LUSolver(LUSolver&&) noexcept;
+  LUSolver& operator=(LUSolver&&) noexcept;
+  LUSolver(const LUSolver&) = delete;
+  LUSolver& operator=(const LUSolver&) = delete;
+
+  /// Column ordering from A's pattern (values are not read).
+  void analyze(const Eigen::SparseMatrix<double>& A);
+  /// Numeric factorization of A, whose pattern must be the analyzed one.
+  void factorize(const Eigen::SparseMatrix<double>& A);
+  /// analyze(A) then factorize(A).
+  void compute(const Eigen::SparseMatrix<double>& A);
+
+  /// Inputs: B (n×k). Output: X (n×k) with A X = B.
+  Eigen::MatrixXd solve(const Eigen::Ref<const Eigen::MatrixXd>& B) const;
+
+  Eigen::Index rows() const;
+  bool analyzed() const;
+  bool factorized() const;
+  /// nnz(L) + nnz(U) of the last factorization.
+  double factor_nonzeros() const;
+  /// Reciprocal condition number estimate (1-norm) of the last factorization.
+  double rcond() const;
+  const Options& options() const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace spinmotor
