@@ -18,6 +18,18 @@ namespace {
 
 using RowQuats = Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>;
 
+// Loops over fewer items run serially: a parallel region costs more than they do (and much more on a
+// loaded machine, where a descheduled OpenMP thread stalls the barrier).
+constexpr Eigen::Index kParallelMin = 20000;
+
+void check_rho(const Eigen::VectorXd& rho, Eigen::Index m) {
+  if (rho.size() != m) {
+    std::ostringstream s;
+    s << "DiracAssembly: rho has " << rho.size() << " values for " << m << " faces";
+    throw Error(s.str());
+  }
+}
+
 // Fill-reducing ordering of the symmetric graph given by its full CSC pattern (diagonal included).
 Eigen::VectorXi graph_ordering(Eigen::Index n, std::vector<int>& colptr, std::vector<int>& rowind,
                                VertexOrdering ordering) {
@@ -202,7 +214,7 @@ DiracAssembly::DiracAssembly(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
   pattern_.resizeNonZeros(outer[N]);
   std::copy(outer.begin(), outer.end(), pattern_.outerIndexPtr());
   int* inner = pattern_.innerIndexPtr();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n_ > kParallelMin)
   for (Eigen::Index j = 0; j < n_; ++j)
     for (int c = 0; c < dof[j]; ++c) {
       int pos = outer[dof_offset_[j] + c];
@@ -228,7 +240,7 @@ void DiracAssembly::fill(const Eigen::VectorXd& scale, const Eigen::VectorXd& di
   const int* outer = K.outerIndexPtr();
   double* val = K.valuePtr();
   const bool scaled = scale.size() == n_;
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(dynamic, 256) if (n_ > kParallelMin)
   for (Eigen::Index j = 0; j < n_; ++j) {
     const int oj = order_[j];
     const double sj = scaled ? scale[oj] : 1.0;
@@ -275,18 +287,13 @@ void DiracAssembly::fill(const Eigen::VectorXd& scale, const Eigen::VectorXd& di
   }
 }
 
-void DiracAssembly::normal_matrix(const Eigen::VectorXd& rho, const Eigen::VectorXd& scale,
-                                  Eigen::SparseMatrix<double>& K) const {
-  if (rho.size() != m_) {
-    std::ostringstream s;
-    s << "DiracAssembly: rho has " << rho.size() << " values for " << m_ << " faces";
-    throw Error(s.str());
-  }
+void DiracAssembly::normal_entries(const Eigen::VectorXd& rho, Eigen::VectorXd& diag, RowQuats& edge_q) const {
+  check_rho(rho, m_);
   const Eigen::Index ne = E_.rows();
-  Eigen::VectorXd diag(n_);
-  RowQuats edge_q(ne, 4);
+  diag.resize(n_);
+  edge_q.resize(ne, 4);
   // Per vertex: Σ_f |e_a|²/(4A) + A ρ²/9 (the real diagonal of A*A).
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n_ > kParallelMin)
   for (Eigen::Index i = 0; i < n_; ++i) {
     double d = 0;
     for (int t = VF_offset_[i]; t < VF_offset_[i + 1]; ++t) {
@@ -298,7 +305,7 @@ void DiracAssembly::normal_matrix(const Eigen::VectorXd& rho, const Eigen::Vecto
   }
   // Per edge (E0, E1): Σ_f of the entry (a, b) = (F(f,c), F(f,c+1)), conjugated when a = E1.
   //   −e_a e_b/(4A) = (e_a·e_b − e_a×e_b)/(4A), and e_c × e_{c+1} = 2A N, so the vector part is −N/2.
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (ne > kParallelMin)
   for (Eigen::Index e = 0; e < ne; ++e) {
     Eigen::Vector4d q = Eigen::Vector4d::Zero();
     for (int t = EF_offset_[e]; t < EF_offset_[e + 1]; ++t) {
@@ -313,20 +320,14 @@ void DiracAssembly::normal_matrix(const Eigen::VectorXd& rho, const Eigen::Vecto
     }
     edge_q.row(e) = q.transpose();
   }
-  fill(scale, diag, edge_q, K);
 }
 
-void DiracAssembly::mixed_matrix(const Eigen::VectorXd& rho, const Eigen::VectorXd& scale,
-                                 Eigen::SparseMatrix<double>& G) const {
-  if (rho.size() != m_) {
-    std::ostringstream s;
-    s << "DiracAssembly: rho has " << rho.size() << " values for " << m_ << " faces";
-    throw Error(s.str());
-  }
+void DiracAssembly::mixed_entries(const Eigen::VectorXd& rho, Eigen::VectorXd& diag, RowQuats& edge_q) const {
+  check_rho(rho, m_);
   const Eigen::Index ne = E_.rows();
-  Eigen::VectorXd diag(n_);
-  RowQuats edge_q(ne, 4);
-#pragma omp parallel for schedule(static)
+  diag.resize(n_);
+  edge_q.resize(ne, 4);
+#pragma omp parallel for schedule(static) if (n_ > kParallelMin)
   for (Eigen::Index i = 0; i < n_; ++i) {
     double d = 0;
     for (int t = VF_offset_[i]; t < VF_offset_[i + 1]; ++t) {
@@ -336,7 +337,7 @@ void DiracAssembly::mixed_matrix(const Eigen::VectorXd& rho, const Eigen::Vector
     diag[i] = d;
   }
   // (B*A)_ab = Σ_f −e_b/6 − Aρ/9 with b = E1 (the column of the stored entry (E0, E1)).
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (ne > kParallelMin)
   for (Eigen::Index e = 0; e < ne; ++e) {
     Eigen::Vector4d q = Eigen::Vector4d::Zero();
     for (int t = EF_offset_[e]; t < EF_offset_[e + 1]; ++t) {
@@ -347,7 +348,115 @@ void DiracAssembly::mixed_matrix(const Eigen::VectorXd& rho, const Eigen::Vector
     }
     edge_q.row(e) = q.transpose();
   }
+}
+
+void DiracAssembly::normal_matrix(const Eigen::VectorXd& rho, const Eigen::VectorXd& scale,
+                                  Eigen::SparseMatrix<double>& K) const {
+  Eigen::VectorXd diag;
+  RowQuats edge_q;
+  normal_entries(rho, diag, edge_q);
+  fill(scale, diag, edge_q, K);
+}
+
+void DiracAssembly::mixed_matrix(const Eigen::VectorXd& rho, const Eigen::VectorXd& scale,
+                                 Eigen::SparseMatrix<double>& G) const {
+  Eigen::VectorXd diag;
+  RowQuats edge_q;
+  mixed_entries(rho, diag, edge_q);
   fill(scale, diag, edge_q, G);
+}
+
+void DiracAssembly::normal_matrix(const Eigen::VectorXd& rho, const Eigen::VectorXd& scale,
+                                  Eigen::SparseMatrix<std::complex<double>>& K) const {
+  Eigen::VectorXd diag;
+  RowQuats edge_q;
+  normal_entries(rho, diag, edge_q);
+  fill_complex(scale, diag, edge_q, K);
+}
+
+void DiracAssembly::mixed_matrix(const Eigen::VectorXd& rho, const Eigen::VectorXd& scale,
+                                 Eigen::SparseMatrix<std::complex<double>>& G) const {
+  Eigen::VectorXd diag;
+  RowQuats edge_q;
+  mixed_entries(rho, diag, edge_q);
+  fill_complex(scale, diag, edge_q, G);
+}
+
+const Eigen::SparseMatrix<std::complex<double>>& DiracAssembly::complex_pattern() const {
+  if (reduced_) throw Error("DiracAssembly: the complex form needs every vertex unreduced (no boundary tangents)");
+  if (complex_pattern_.rows() == 2 * n_) return complex_pattern_;
+  // Column 2j: rows 2j, 2j+1, then 2k, 2k+1 per neighbour k > j; column 2j+1: row 2j+1, then the same.
+  Eigen::SparseMatrix<std::complex<double>> P(2 * n_, 2 * n_);
+  std::vector<int> outer(2 * n_ + 1, 0);
+  for (Eigen::Index j = 0; j < n_; ++j) {
+    const int nb = 2 * (nb_offset_[j + 1] - nb_offset_[j]);
+    outer[2 * j + 1] = 2 + nb;
+    outer[2 * j + 2] = 1 + nb;
+  }
+  for (Eigen::Index j = 0; j < 2 * n_; ++j) outer[j + 1] += outer[j];
+  P.resizeNonZeros(outer[2 * n_]);
+  std::copy(outer.begin(), outer.end(), P.outerIndexPtr());
+  int* inner = P.innerIndexPtr();
+#pragma omp parallel for schedule(static) if (n_ > kParallelMin)
+  for (Eigen::Index j = 0; j < n_; ++j)
+    for (int c = 0; c < 2; ++c) {
+      int pos = outer[2 * j + c];
+      for (int r = c; r < 2; ++r) inner[pos++] = static_cast<int>(2 * j + r);
+      for (int p = nb_offset_[j]; p < nb_offset_[j + 1]; ++p) {
+        inner[pos++] = 2 * nb_vertex_[p];
+        inner[pos++] = 2 * nb_vertex_[p] + 1;
+      }
+    }
+  std::fill(P.valuePtr(), P.valuePtr() + outer[2 * n_], std::complex<double>(0.0));
+  complex_pattern_ = std::move(P);
+  return complex_pattern_;
+}
+
+void DiracAssembly::fill_complex(const Eigen::VectorXd& scale, const Eigen::VectorXd& diag, const RowQuats& edge_q,
+                                 Eigen::SparseMatrix<std::complex<double>>& K) const {
+  const Eigen::SparseMatrix<std::complex<double>>& P = complex_pattern();
+  if (K.rows() != P.rows() || K.nonZeros() != P.nonZeros() || !K.isCompressed())
+    throw Error("DiracAssembly: the output matrix must be a copy of complex_pattern()");
+  if (scale.size() != 0 && scale.size() != n_) {
+    std::ostringstream s;
+    s << "DiracAssembly: scale has " << scale.size() << " entries for " << n_ << " vertices";
+    throw Error(s.str());
+  }
+  using C = std::complex<double>;
+  const int* outer = K.outerIndexPtr();
+  C* val = K.valuePtr();
+  const bool scaled = scale.size() == n_;
+#pragma omp parallel for schedule(static) if (n_ > kParallelMin)
+  for (Eigen::Index j = 0; j < n_; ++j) {
+    const double sj = scaled ? scale[order_[j]] : 1.0;
+    const double d = sj * sj * diag[order_[j]];
+    int p0 = outer[2 * j], p1 = outer[2 * j + 1];
+    val[p0++] = d;
+    val[p0++] = 0.0;
+    val[p1++] = d;
+    for (int p = nb_offset_[j]; p < nb_offset_[j + 1]; ++p) {
+      const double s = sj * (scaled ? scale[order_[nb_vertex_[p]]] : 1.0);
+      const auto q = edge_q.row(nb_edge_[p]);
+      const double sg = nb_e0_is_row_[p] ? 1.0 : -1.0;  // conjugate for the entry (E1, E0)
+      // q = a + bi + cj + dk → [z1 −z̄2; z2 z̄1], z1 = a + bi, z2 = c − di.
+      const C z1(s * q[0], s * sg * q[1]), z2(s * sg * q[2], -s * sg * q[3]);
+      val[p0++] = z1;
+      val[p0++] = z2;
+      val[p1++] = -std::conj(z2);
+      val[p1++] = std::conj(z1);
+    }
+  }
+}
+
+Eigen::MatrixXd DiracAssembly::expand(const Eigen::VectorXcd& w, const Eigen::VectorXd& scale) const {
+  if (w.size() != 2 * n_) throw Error("DiracAssembly::expand: wrong number of complex unknowns");
+  Eigen::MatrixXd lambda(n_, 4);
+  for (Eigen::Index k = 0; k < n_; ++k) {
+    const int i = order_[k];
+    const double s = scale.size() == n_ ? scale[i] : 1.0;
+    lambda.row(i) << s * w[2 * k].real(), s * w[2 * k].imag(), s * w[2 * k + 1].real(), -s * w[2 * k + 1].imag();
+  }
+  return lambda;
 }
 
 Eigen::MatrixXd DiracAssembly::expand(const Eigen::VectorXd& x, const Eigen::VectorXd& scale) const {

@@ -17,6 +17,14 @@
 // Each face's three vertex pairs are summed per edge and per vertex in parallel (OpenMP) and written
 // straight into the value array: no triplets, no sparse products.
 //
+// Complex form. Seen as a right C-vector space (p = w1 + j w2, w1, w2 ∈ span{1, i}), H^n is C^2n and
+// left multiplication by q = z1 + j z2 is the complex 2×2 block [z1 −z̄2; z2 z̄1]; for
+// q = a + bi + cj + dk, z1 = a + bi and z2 = c − di. This is a representation (products map to
+// products, q̄ to the conjugate transpose), so A*A is also a Hermitian 2n×2n complex matrix with 2×2
+// blocks: half the storage of the real 4×4 form, and a supernodal complex Cholesky of it costs about
+// a third of the real one (bench_spin). It needs every vertex to keep a full quaternion (the
+// boundary reduction λ = W(a + bT̃) is not a complex subspace), so it exists only without reductions.
+//
 // Ordering. The vertices are renumbered once per bind by a fill-reducing ordering of the VERTEX graph
 // (n nodes), and every vertex keeps its 2 or 4 unknowns together; the factorization can then use its
 // natural order. Ordering the n-node graph is ~16× cheaper than ordering the 4n×4n matrix, whose
@@ -24,6 +32,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include <complex>
 #include <vector>
 
 namespace spinmotor {
@@ -63,6 +72,17 @@ public:
   /// rounding) is dropped so that the lower triangle describes a symmetric matrix.
   void mixed_matrix(const Eigen::VectorXd& rho, const Eigen::VectorXd& scale, Eigen::SparseMatrix<double>& G) const;
 
+  /// Complex form (only without reductions): pattern with 2 complex unknowns per vertex, (w1, w2) =
+  /// (a + bi, c − di) for λ_i = a + bi + cj + dk, lower triangle, values zero. Built on first use.
+  const Eigen::SparseMatrix<std::complex<double>>& complex_pattern() const;
+  /// K and G in complex form, written into a copy of complex_pattern().
+  void normal_matrix(const Eigen::VectorXd& rho, const Eigen::VectorXd& scale,
+                     Eigen::SparseMatrix<std::complex<double>>& K) const;
+  void mixed_matrix(const Eigen::VectorXd& rho, const Eigen::VectorXd& scale,
+                    Eigen::SparseMatrix<std::complex<double>>& G) const;
+  /// Inputs: w (2n complex unknowns), scale (n or empty). Output: λ (n×4, original order).
+  Eigen::MatrixXd expand(const Eigen::VectorXcd& w, const Eigen::VectorXd& scale) const;
+
   /// Inputs: x (num_unknowns), scale (n or empty). Output: λ (n×4, ORIGINAL vertex order), λ_i = s_i U_i x_i.
   Eigen::MatrixXd expand(const Eigen::VectorXd& x, const Eigen::VectorXd& scale) const;
   /// The unknowns x whose expansion (scale 1) is the quaternion field (n×4) closest in the least-squares
@@ -70,6 +90,11 @@ public:
   Eigen::VectorXd restrict_field(const Eigen::MatrixXd& lambda) const;
 
 private:
+  using RowQuats = Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>;
+  void normal_entries(const Eigen::VectorXd& rho, Eigen::VectorXd& diag, RowQuats& edge_q) const;
+  void mixed_entries(const Eigen::VectorXd& rho, Eigen::VectorXd& diag, RowQuats& edge_q) const;
+  void fill_complex(const Eigen::VectorXd& scale, const Eigen::VectorXd& diag, const RowQuats& edge_q,
+                    Eigen::SparseMatrix<std::complex<double>>& K) const;
   void fill(const Eigen::VectorXd& scale, const Eigen::VectorXd& diag, const Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>& edge_q,
             Eigen::SparseMatrix<double>& K) const;
 
@@ -91,6 +116,7 @@ private:
   // stored orientation (E0 → E1) is (row k, column j).
   Eigen::VectorXi nb_offset_, nb_vertex_, nb_edge_, nb_e0_is_row_;
   Eigen::SparseMatrix<double> pattern_;
+  mutable Eigen::SparseMatrix<std::complex<double>> complex_pattern_;
 };
 
 }  // namespace spinmotor

@@ -1,0 +1,55 @@
+#include "spinmotor/spin/grayscale_image.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "spinmotor/error.hpp"
+
+// stb_image, private to this translation unit (static functions: no clash with other users of stb).
+#define STB_IMAGE_STATIC
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_ONLY_TGA
+#define STBI_ONLY_PNG
+#define STBI_FAILURE_USERMSG
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#endif
+#include <stb_image.h>
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
+
+namespace spinmotor {
+
+double GrayscaleImage::sample(double x, double y) const {
+  const double fx = std::floor(x), fy = std::floor(y);
+  const double ax = x - fx, ay = y - fy, bx = 1.0 - ax, by = 1.0 - ay;
+  auto clampi = [](double v, int hi) { return static_cast<int>(std::clamp(v, 0.0, static_cast<double>(hi))); };
+  const int x0 = clampi(fx, width - 1), x1 = clampi(fx + 1, width - 1);
+  const int y0 = clampi(fy, height - 1), y1 = clampi(fy + 1, height - 1);
+  return by * (bx * at(x0, y0) + ax * at(x1, y0)) + ay * (bx * at(x0, y1) + ax * at(x1, y1));
+}
+
+GrayscaleImage read_grayscale_image(const std::filesystem::path& path) {
+  stbi_set_flip_vertically_on_load(1);  // stb reports the top row first; we store the bottom row first
+  int w = 0, h = 0, channels = 0;
+  unsigned char* data = stbi_load(path.string().c_str(), &w, &h, &channels, 1);
+  if (!data) {
+    const char* why = stbi_failure_reason();
+    throw Error("cannot read image '" + path.string() + "': " + (why ? why : "unknown error") +
+                " (TGA or PNG expected)");
+  }
+  GrayscaleImage img;
+  img.width = w;
+  img.height = h;
+  img.pixels.resize(static_cast<Eigen::Index>(w) * h);
+  for (Eigen::Index i = 0; i < img.pixels.size(); ++i) img.pixels[i] = static_cast<float>(data[i]);
+  stbi_image_free(data);
+  if (w <= 0 || h <= 0) throw Error("image '" + path.string() + "' is empty");
+  return img;
+}
+
+}  // namespace spinmotor

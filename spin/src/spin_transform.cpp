@@ -1,0 +1,551 @@
+#include "spinmotor/spin/spin_transform.hpp"
+
+#include <Eigen/Eigenvalues>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <vector>
+
+#include "spinmotor/error.hpp"
+#include "spinmotor/mesh/cholesky_solver.hpp"
+#include "spinmotor/mesh/cotangent_laplacian.hpp"
+#include "spinmotor/mesh/face_geometry.hpp"
+#include "spinmotor/mesh/topology.hpp"
+#include "spinmotor/mesh/validate.hpp"
+#include "spinmotor/ga/quaternion.hpp"
+#include "spinmotor/spin/quaternion_matrix.hpp"
+#include "hermitian_cholesky.hpp"
+
+namespace spinmotor {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+CholeskySolver::Ordering to_cholmod(VertexOrdering o) {
+  switch (o) {
+    case VertexOrdering::Natural: return CholeskySolver::Ordering::Natural;
+    case VertexOrdering::AMD: return CholeskySolver::Ordering::AMD;
+    case VertexOrdering::METIS: return CholeskySolver::Ordering::METIS;
+  }
+  return CholeskySolver::Ordering::AMD;
+}
+
+// y = K x for K stored as its lower triangle (Hermitian for complex K).
+template <class Scalar>
+Eigen::Matrix<Scalar, Eigen::Dynamic, 1> sym_mul(const Eigen::SparseMatrix<Scalar>& K,
+                                                 const Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& x) {
+  return K.template selfadjointView<Eigen::Lower>() * x;
+}
+
+// Adds sigma to the diagonal (the first stored entry of each column of a lower triangle); returns the
+// mean diagonal before the shift.
+template <class Scalar>
+double mean_diagonal(const Eigen::SparseMatrix<Scalar>& K) {
+  double sum = 0;
+  for (Eigen::Index j = 0; j < K.cols(); ++j) sum += std::real(K.valuePtr()[K.outerIndexPtr()[j]]);
+  return sum / static_cast<double>(K.cols());
+}
+template <class Scalar>
+void shift_diagonal(Eigen::SparseMatrix<Scalar>& K, double sigma) {
+  for (Eigen::Index j = 0; j < K.cols(); ++j) K.valuePtr()[K.outerIndexPtr()[j]] += sigma;
+}
+
+struct IterationResult {
+  double theta = 0;
+  double residual = 0;
+  int iterations = 0;
+};
+
+// Stops at the tolerance, or when the residual has stalled below 1e-6 (less than 10% progress in 8
+// iterations): the relative residual ‖K_s x − θx‖/‖K_s x‖ cannot go below roundoff ε‖K‖/θ, which is
+// ~1e-8 when the smallest eigenvalue is at the shift (ρ = 0).
+class Convergence {
+public:
+  explicit Convergence(double tol) : tol_(tol) {}
+  bool done(double residual) {
+    if (residual < tol_) return true;
+    if (residual < 0.9 * best_)
+      best_ = residual, since_ = 0;
+    else
+      ++since_;
+    return best_ < 1e-6 && since_ >= 8;
+  }
+
+private:
+  double tol_, best_ = std::numeric_limits<double>::infinity();
+  int since_ = 0;
+};
+
+// Inverse iteration x ← K⁻¹x (or K⁻¹Gx for eq. 6) on one factorization; K includes the shift sigma.
+template <class Scalar, class Solve>
+IterationResult inverse_iteration(const Eigen::SparseMatrix<Scalar>& K, const Eigen::SparseMatrix<Scalar>* G,
+                                  const Solve& solve, double sigma, const SpinTransformOptions& o,
+                                  Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& x) {
+  using Vec = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
+  IterationResult r;
+  Convergence conv(o.tolerance);
+  for (int it = 0; it < o.iterations; ++it) {
+    Vec y = G ? solve(sym_mul(*G, x)) : solve(x);
+    const double ny = y.norm();
+    if (!(ny > 0) || !std::isfinite(ny)) throw numerical_error("spin_transform: inverse iteration broke down");
+    y /= ny;
+    const Vec Ky = sym_mul(K, y);
+    const double nKy = Ky.norm();
+    if (G) {
+      const Vec Gy = sym_mul(*G, y);
+      r.theta = (std::real(y.dot(Ky)) - sigma) / std::real(y.dot(Gy));  // Rayleigh quotient, unshifted pencil
+      r.residual = (Ky - (r.theta * Gy + sigma * y)).norm() / nKy;
+    } else {
+      const double th = std::real(y.dot(Ky));
+      r.residual = (Ky - th * y).norm() / nKy;
+      r.theta = th - sigma;
+    }
+    x = std::move(y);
+    r.iterations = it + 1;
+    if (!o.fixed_iterations && conv.done(r.residual)) break;
+  }
+  return r;
+}
+
+// Inverse iteration accelerated by Rayleigh–Ritz on all its iterates (i.e. on the Krylov space of
+// K⁻¹, or K⁻¹G, built from the start vector): the same solves as inverse iteration, but the Ritz
+// vector converges at the Lanczos rate instead of the power rate θ1/θ2. The basis is kept orthonormal
+// (classical Gram–Schmidt, twice) and restarted from the current Ritz vector when it reaches
+// `max_basis` vectors.
+template <class Scalar, class Solve>
+IterationResult krylov_inverse_iteration(const Eigen::SparseMatrix<Scalar>& K, const Eigen::SparseMatrix<Scalar>* G,
+                                         const Solve& solve, double sigma, const SpinTransformOptions& o,
+                                         Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& x, int max_basis = 24) {
+  using Vec = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
+  using Mat = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
+  const Eigen::Index N = x.size();
+  Mat Vb(N, max_basis), W(N, max_basis), Z;  // basis, K·basis, G·basis
+  Mat Hk(max_basis, max_basis), Hgk;             // projections Vbᴴ W and Vbᴴ Z, grown one row/column per step
+  if (G) Z.resize(N, max_basis), Hgk.resize(max_basis, max_basis);
+  int k = 0;
+  // Matrix–vector products only (Eigen would run N×k by N×k products through its OpenMP GEMM).
+  auto project = [&](int j) {
+    const Vec hv = Vb.leftCols(j + 1).adjoint() * W.col(j);
+    Hk.col(j).head(j + 1) = hv;
+    Hk.row(j).head(j + 1) = hv.adjoint();
+    if (G) {
+      const Vec hg = Vb.leftCols(j + 1).adjoint() * Z.col(j);
+      Hgk.col(j).head(j + 1) = hg;
+      Hgk.row(j).head(j + 1) = hg.adjoint();
+    }
+  };
+  auto push = [&](Vec v) -> bool {
+    const double n0 = v.norm();
+    for (int pass = 0; pass < 2; ++pass)
+      if (k > 0) v -= Vb.leftCols(k) * (Vb.leftCols(k).adjoint() * v);
+    const double nv = v.norm();
+    // Nothing new: the Krylov space is invariant and its Ritz pairs are exact.
+    if (!(nv > 1e-12 * n0) || !std::isfinite(nv)) return false;
+    Vb.col(k) = v / nv;
+    W.col(k) = sym_mul(K, Vec(Vb.col(k)));
+    if (G) Z.col(k) = sym_mul(*G, Vec(Vb.col(k)));
+    project(k);
+    ++k;
+    return true;
+  };
+  IterationResult r;
+  Convergence conv(o.tolerance);
+  x.normalize();
+  const Vec x0 = x;
+  push(x);
+  Vec last = x;
+  for (int it = 0; it < o.iterations; ++it) {
+    Vec y = G ? solve(sym_mul(*G, last)) : solve(last);
+    if (!y.allFinite()) throw numerical_error("spin_transform: inverse iteration broke down");
+    if (k == max_basis) {  // restart from the current Ritz vector
+      Vb.col(0) = x;
+      W.col(0) = sym_mul(K, x);
+      if (G) Z.col(0) = sym_mul(*G, x);
+      project(0);
+      k = 1;
+    }
+    const bool grew = push(y);
+    r.iterations = it + 1;
+    // Rayleigh–Ritz. When the wanted Ritz value is (nearly) multiple — a quaternionic eigenvalue in
+    // the complex form, or a degenerate kernel such as the extra exact solutions of a flat disk with
+    // ρ = 0 — any vector of its eigenspace is a solution, and rounding noise would pick one at random;
+    // take the projection of the start vector instead, which is what plain inverse iteration
+    // converges to.
+    const Mat H = Hk.topLeftCorner(k, k);
+    Mat Uc;  // Ritz vectors (basis coordinates) of the wanted cluster
+    if (!G) {
+      Eigen::SelfAdjointEigenSolver<Mat> es(H);
+      const Eigen::VectorXd& ev = es.eigenvalues();
+      int c = 1;
+      while (c < k && ev[c] - ev[0] <= 1e-6 * std::abs(ev[0])) ++c;
+      Uc = es.eigenvectors().leftCols(c);
+      r.theta = ev[0];
+    } else {
+      const Mat Hg = Hgk.topLeftCorner(k, k);
+      // Hg u = μ H u with H positive definite; the largest |μ| is the smallest |γ| = |1/μ|.
+      Eigen::GeneralizedSelfAdjointEigenSolver<Mat> es(Hg, H);
+      const Eigen::VectorXd& mu = es.eigenvalues();
+      Eigen::Index best = 0;
+      mu.cwiseAbs().maxCoeff(&best);
+      std::vector<Eigen::Index> cl;
+      for (Eigen::Index i = 0; i < mu.size(); ++i)
+        if (std::abs(mu[i] - mu[best]) <= 1e-6 * std::abs(mu[best])) cl.push_back(i);
+      Uc.resize(k, static_cast<Eigen::Index>(cl.size()));
+      for (std::size_t i = 0; i < cl.size(); ++i) Uc.col(static_cast<Eigen::Index>(i)) = es.eigenvectors().col(cl[i]);
+      r.theta = 1.0 / mu[best];
+    }
+    Eigen::Matrix<Scalar, Eigen::Dynamic, 1> u;
+    if (Uc.cols() == 1) {
+      u = Uc.col(0);
+    } else {
+      const Vec c0 = Vb.leftCols(k).adjoint() * x0;
+      u = Uc * Uc.colPivHouseholderQr().solve(c0);
+      if (!(u.norm() > 1e-8 * c0.norm())) u = Uc.col(0);  // the start has no component there
+    }
+    x = Vb.leftCols(k) * u;
+    const double nx = x.norm();
+    x /= nx;
+    const Vec Kx = W.leftCols(k) * u / nx;
+    const double nKx = Kx.norm();
+    if (G) {
+      const Vec Gx = Z.leftCols(k) * u / nx;
+      // Unshifted pencil: A*A = K − σ; its Rayleigh quotient on the Ritz vector.
+      r.theta = (std::real(x.dot(Kx)) - sigma) / std::real(x.dot(Gx));
+      r.residual = (Kx - (r.theta * Gx + sigma * x)).norm() / nKx;
+    } else {
+      r.residual = (Kx - r.theta * x).norm() / nKx;
+      r.theta -= sigma;
+    }
+    last = Vb.col(k - 1);
+    if (conv.done(r.residual) || !grew) break;
+  }
+  return r;
+}
+
+}  // namespace
+
+Eigen::MatrixXd transformed_edges(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E, const Eigen::MatrixXd& lambda) {
+  if (lambda.rows() != V.rows() || lambda.cols() != 4) throw Error("transformed_edges: lambda must be n x 4");
+  Eigen::MatrixXd out(E.rows(), 3);
+#pragma omp parallel for schedule(static) if (E.rows() > 60000)
+  for (Eigen::Index e = 0; e < E.rows(); ++e) {
+    const int a = E(e, 0), b = E(e, 1);
+    const ga::Quat li(lambda(a, 0), lambda(a, 1), lambda(a, 2), lambda(a, 3));
+    const ga::Quat lj(lambda(b, 0), lambda(b, 1), lambda(b, 2), lambda(b, 3));
+    const ga::Quat ed = ga::imaginary((V.row(b) - V.row(a)).transpose());
+    const ga::Quat ci = ga::conj(li), cj = ga::conj(lj);
+    // eq. 8: ẽ = ⅓ λ̄_i e λ_i + ⅙ λ̄_i e λ_j + ⅙ λ̄_j e λ_i + ⅓ λ̄_j e λ_j
+    const ga::Quat ei = ci * ed, ej = cj * ed;
+    const ga::Quat t = (1.0 / 3.0) * (ei * li) + (1.0 / 6.0) * (ei * lj) + (1.0 / 6.0) * (ej * li) + (1.0 / 3.0) * (ej * lj);
+    out.row(e) = t.vec().transpose();
+  }
+  return out;
+}
+
+struct SpinTransform::Impl {
+  SpinTransformOptions opt;
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi F;
+  double area0 = 0;
+  Eigen::RowVector3d mean0;
+  std::unique_ptr<DiracAssembly> as;
+  Eigen::VectorXd scale;       // s_i (Standard) or empty
+  double scale_c = 1.0;        // s_i = scale_c / sqrt(M_i)
+  bool complex = false;        // complex Hermitian form (no reductions)
+  Eigen::SparseMatrix<double> K, G;
+  Eigen::SparseMatrix<std::complex<double>> Kc, Gc;
+  CholeskySolver chol;
+  detail::HermitianCholesky cchol;
+  Eigen::VectorXd start;       // normalised all-ones start vector (unknowns)
+  Eigen::VectorXcd cstart;
+  // Poisson.
+  Eigen::MatrixXi E;
+  Eigen::VectorXd w;           // cotangent weight per edge (−L_ij)
+  CholeskySolver poisson;
+  double bind_ms = 0;
+
+  explicit Impl(const SpinTransformOptions& o)
+      : opt(o),
+        chol({.ordering = CholeskySolver::Ordering::Natural, .supernodal = o.supernodal}),
+        cchol(detail::HermitianCholesky::Ordering::Natural, o.supernodal) {}
+};
+
+SpinTransform::SpinTransform(const Mesh& mesh, const SpinTransformOptions& options)
+    : impl_(std::make_unique<Impl>(options)) {
+  const auto t0 = Clock::now();
+  Impl& s = *impl_;
+  const SpinTransformOptions& o = s.opt;
+  const MeshReport rep = require(mesh,
+                                 {.finite = true, .manifold = true, .oriented = true, .no_degenerate = true,
+                                  .closed = o.problem == SpinEigenProblem::Generalized, .single_component = true,
+                                  .no_unreferenced = true},
+                                 "spin_transform");
+  (void)rep;
+  if (!o.fixed_iterations && !(o.tolerance > 0)) throw Error("spin_transform: tolerance must be positive");
+  if (o.iterations < 1) throw Error("spin_transform: iterations must be at least 1");
+  s.V = mesh.V;
+  s.F = mesh.F;
+  const Eigen::Index n = s.V.rows();
+  s.area0 = face_areas(s.V, s.F).sum();
+  s.mean0 = s.V.colwise().mean();
+
+  // Boundary tangents (§5.7): U_i = W_i C_i.
+  Eigen::VectorXi reduced;
+  std::vector<Eigen::Matrix<double, 4, 2>> U;
+  const SpinBoundaryTangents& bt = o.boundary;
+  if (bt.vertices.size() != bt.targets.rows() || (bt.vertices.size() > 0 && bt.targets.cols() != 3))
+    throw Error("spin_transform: boundary tangents need one target row (3 columns) per listed vertex");
+  if (bt.vertices.size() > 0) {
+    if (o.problem == SpinEigenProblem::Generalized)
+      throw Error("spin_transform: boundary tangents need the Standard or Unweighted problem (B*A is not "
+                  "Hermitian on a mesh with boundary)");
+    // Source tangent: the unit outgoing boundary edge, loops oriented with the surface on the left.
+    std::vector<int> next(n, -1);
+    for (const auto& loop : boundary_loops(s.F))
+      for (std::size_t k = 0; k < loop.size(); ++k) next[loop[k]] = loop[(k + 1) % loop.size()];
+    reduced = bt.vertices;
+    U.resize(bt.vertices.size());
+    for (Eigen::Index r = 0; r < bt.vertices.size(); ++r) {
+      const int i = bt.vertices[r];
+      if (i < 0 || i >= n) {
+        std::ostringstream m;
+        m << "spin_transform: boundary tangent vertex " << i << " is outside [0, " << n << ")";
+        throw Error(m.str());
+      }
+      if (next[i] < 0) {
+        std::ostringstream m;
+        m << "spin_transform: vertex " << i << " has a prescribed tangent but is not on the boundary";
+        throw Error(m.str());
+      }
+      const Eigen::Vector3d Tt = bt.targets.row(r).transpose();
+      if (!Tt.allFinite() || !(Tt.norm() > 0)) {
+        std::ostringstream m;
+        m << "spin_transform: target tangent of boundary vertex " << i << " is zero or not finite";
+        throw Error(m.str());
+      }
+      const Eigen::Vector3d T = (s.V.row(next[i]) - s.V.row(i)).normalized().transpose();
+      const Eigen::Vector3d Tn = Tt.normalized();
+      // Rotation r with r T r̄ = T̃ (Eigen's convention); in Crane's action v ↦ W̄ v W, W = r̄.
+      const Eigen::Quaterniond rot = Eigen::Quaterniond::FromTwoVectors(T, Tn);
+      const ga::Quat W = ga::conj(ga::from_quaterniond(rot));
+      Eigen::Matrix<double, 4, 2> C = Eigen::Matrix<double, 4, 2>::Zero();
+      C(0, 0) = 1.0;
+      C.block<3, 1>(1, 1) = Tn;
+      U[r] = quaternion_block(W) * C;  // λ_i = W_i (a + b T̃_i)
+    }
+  }
+
+  // Eigen matrix: vertex ordering, pattern, symbolic analysis.
+  const VertexOrdering vord = o.order_full_matrix ? VertexOrdering::Natural : o.ordering;
+  s.as = std::make_unique<DiracAssembly>(s.V, s.F, vord, reduced, U);
+  s.complex = o.complex_form && !s.as->has_reductions();
+  if (o.order_full_matrix) {
+    s.chol = CholeskySolver({.ordering = to_cholmod(o.ordering), .supernodal = o.supernodal});
+    s.cchol = detail::HermitianCholesky(o.ordering == VertexOrdering::METIS ? detail::HermitianCholesky::Ordering::METIS
+                                        : o.ordering == VertexOrdering::AMD ? detail::HermitianCholesky::Ordering::AMD
+                                                                              : detail::HermitianCholesky::Ordering::Natural,
+                                        o.supernodal);
+  }
+  if (o.problem == SpinEigenProblem::Standard) {
+    // V = M_V^{-1/2}, rescaled to mean 1 (§5.5).
+    const Eigen::VectorXd& Mv = s.as->vertex_areas();
+    s.scale = Mv.cwiseSqrt().cwiseInverse();
+    const double mean = s.scale.mean();
+    s.scale /= mean;
+    s.scale_c = 1.0 / mean;
+  }
+  if (s.complex) {
+    s.Kc = s.as->complex_pattern();
+    if (o.problem == SpinEigenProblem::Generalized) s.Gc = s.Kc;
+    s.cchol.analyze(s.Kc);
+    // All-ones real quaternions: (w1, w2) = (1, 0) at every vertex.
+    s.cstart = Eigen::VectorXcd::Zero(2 * n);
+    for (Eigen::Index k = 0; k < n; ++k) s.cstart[2 * k] = 1.0;
+    s.cstart.normalize();
+  } else {
+    s.K = s.as->pattern();
+    if (o.problem == SpinEigenProblem::Generalized) s.G = s.as->pattern();
+    s.chol.analyze(s.K);
+    s.start = s.as->restrict_field(Eigen::MatrixXd::Constant(n, 4, 0.0).rowwise() + Eigen::RowVector4d(1, 0, 0, 0));
+    s.start.normalize();
+  }
+
+  // Poisson: cotangent Laplacian with the last vertex pinned (§5.6).
+  const Eigen::SparseMatrix<double> L = cotangent_laplacian(s.V, s.F);
+  const EdgeTopology topo = edge_topology(s.F);
+  s.E = topo.E;
+  s.w.resize(s.E.rows());
+  for (Eigen::Index e = 0; e < s.E.rows(); ++e) s.w[e] = -L.coeff(s.E(e, 0), s.E(e, 1));
+  if (n > 1) {
+    const Eigen::SparseMatrix<double> Lr = L.topLeftCorner(n - 1, n - 1);
+    s.poisson.compute(Lr);
+  }
+  s.bind_ms = ms_since(t0);
+}
+
+SpinTransform::~SpinTransform() = default;
+SpinTransform::SpinTransform(SpinTransform&&) noexcept = default;
+SpinTransform& SpinTransform::operator=(SpinTransform&&) noexcept = default;
+
+const SpinTransformOptions& SpinTransform::options() const { return impl_->opt; }
+double SpinTransform::bind_ms() const { return impl_->bind_ms; }
+Eigen::Index SpinTransform::num_unknowns() const { return impl_->as->num_unknowns(); }
+double SpinTransform::factor_nonzeros() const {
+  return impl_->complex ? impl_->cchol.factor_nonzeros() : impl_->chol.factor_nonzeros();
+}
+
+SpinTransformResult SpinTransform::solve(const Eigen::VectorXd& rho) {
+  Impl& s = *impl_;
+  const SpinTransformOptions& o = s.opt;
+  const Eigen::Index n = s.V.rows(), m = s.F.rows();
+  if (rho.size() != m) {
+    std::ostringstream msg;
+    msg << "spin_transform: rho has " << rho.size() << " values for " << m << " faces";
+    throw Error(msg.str());
+  }
+  for (Eigen::Index f = 0; f < m; ++f)
+    if (!std::isfinite(rho[f])) {
+      std::ostringstream msg;
+      msg << "spin_transform: rho of face " << f << " is not finite (" << rho[f] << ")";
+      throw Error(msg.str());
+    }
+  SpinTransformResult res;
+  res.timings.bind = s.bind_ms;
+  const bool rho_zero = (rho.array() == 0.0).all();
+
+  // Assembly, with a relative shift of the diagonal so that the constants (the kernel when ρ = 0) do
+  // not make K singular; the shift does not change the eigenvectors of eqs. 7 and (unweighted), only
+  // the convergence ratio (θ1 + σ)/(θ2 + σ). If roundoff still makes a pivot non-positive the shift is
+  // raised 100-fold (at most twice). Not for eq. 6, whose eigenvectors it would change; there A*A is
+  // nonsingular for ρ ≢ 0, and for ρ ≡ 0 the constants are returned without factoring.
+  const bool gen = o.problem == SpinEigenProblem::Generalized;
+  const bool skip = gen && rho_zero;
+  auto t = Clock::now();
+  if (s.complex) {
+    s.as->normal_matrix(rho, s.scale, s.Kc);
+    if (gen) s.as->mixed_matrix(rho, s.scale, s.Gc);
+  } else {
+    s.as->normal_matrix(rho, s.scale, s.K);
+    if (gen) s.as->mixed_matrix(rho, s.scale, s.G);
+  }
+  const double dmean = s.complex ? mean_diagonal(s.Kc) : mean_diagonal(s.K);
+  double sigma = gen ? 0.0 : 1e-8 * dmean;
+  res.timings.assembly = ms_since(t);
+
+  // Factorization.
+  t = Clock::now();
+  double applied = 0;  // shift already on the diagonal
+  for (int attempt = 0; !skip; ++attempt) {
+    try {
+      if (s.complex) {
+        shift_diagonal(s.Kc, sigma - applied);
+        applied = sigma;
+        s.cchol.factorize(s.Kc);
+      } else {
+        shift_diagonal(s.K, sigma - applied);
+        applied = sigma;
+        s.chol.factorize(s.K);
+      }
+      break;
+    } catch (const Error& e) {
+      if (gen || attempt == 2 || e.kind() != Error::Kind::Numerical) throw;
+      sigma *= 100.0;
+    }
+  }
+  res.timings.factor = ms_since(t);
+
+  // Inverse iteration.
+  t = Clock::now();
+  double theta = 0;
+  if (gen && rho_zero) {
+    // The constants solve (D − 0)λ = 0 exactly; (6) is singular on them (γ = 0).
+    res.lambda = Eigen::MatrixXd::Zero(n, 4);
+    res.lambda.col(0).setOnes();
+  } else if (s.complex) {
+    Eigen::VectorXcd x = s.cstart;
+    auto solve = [&](const Eigen::VectorXcd& b) { return s.cchol.solve(b); };
+    const IterationResult r = o.fixed_iterations || !o.krylov
+                                  ? inverse_iteration(s.Kc, gen ? &s.Gc : nullptr, solve, sigma, o, x)
+                                  : krylov_inverse_iteration(s.Kc, gen ? &s.Gc : nullptr, solve, sigma, o, x);
+    theta = r.theta, res.residual = r.residual, res.iterations = r.iterations;
+    res.lambda = s.as->expand(x, s.scale);
+  } else {
+    Eigen::VectorXd x = s.start;
+    auto solve = [&](const Eigen::VectorXd& b) -> Eigen::VectorXd { return s.chol.solve(b); };
+    const IterationResult r = o.fixed_iterations || !o.krylov
+                                  ? inverse_iteration(s.K, gen ? &s.G : nullptr, solve, sigma, o, x)
+                                  : krylov_inverse_iteration(s.K, gen ? &s.G : nullptr, solve, sigma, o, x);
+    theta = r.theta, res.residual = r.residual, res.iterations = r.iterations;
+    res.lambda = s.as->expand(x, s.scale);
+  }
+  if (o.problem == SpinEigenProblem::Standard) theta /= s.scale_c * s.scale_c;  // γ of A*Aλ = γ M_V λ
+  res.eigenvalue = theta;
+  if (!s.as->has_reductions()) {
+    // Gauge. Eigenspaces are quaternionic lines (λq solves whatever λ solves), and λ ↦ λq turns the
+    // result by a rotation. Pick the q that makes Σ_i x_i real positive (x = S⁻¹λ the unknowns):
+    // this is what inverse iteration from the all-ones real start converges to, and it leaves the
+    // mean rotation of the unknowns at zero.
+    ga::Quat sum(0.0, 0.0, 0.0, 0.0);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double w = s.scale.size() ? 1.0 / s.scale[i] : 1.0;
+      sum += w * ga::Quat(res.lambda(i, 0), res.lambda(i, 1), res.lambda(i, 2), res.lambda(i, 3));
+    }
+    const double ns = std::sqrt(ga::norm2(sum));
+    if (ns > 0) {
+      const ga::Quat q = ga::conj(sum) / ns;
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const ga::Quat l = ga::Quat(res.lambda(i, 0), res.lambda(i, 1), res.lambda(i, 2), res.lambda(i, 3)) * q;
+        res.lambda.row(i) = l.coeffs().transpose();
+      }
+    }
+  }
+  res.lambda /= res.lambda.norm();
+  if (!res.lambda.allFinite()) throw numerical_error("spin_transform: the eigenvector is not finite");
+  res.timings.eigen = ms_since(t);
+
+  // Reconstruction (§5.6): L f̃ = ∇·ẽ with the last vertex pinned.
+  t = Clock::now();
+  const Eigen::MatrixXd et = transformed_edges(s.V, s.E, res.lambda);
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n, 3);
+  for (Eigen::Index e = 0; e < s.E.rows(); ++e) {
+    const Eigen::RowVector3d we = s.w[e] * et.row(e);
+    b.row(s.E(e, 0)) -= we;
+    b.row(s.E(e, 1)) += we;
+  }
+  Eigen::MatrixXd Vn = Eigen::MatrixXd::Zero(n, 3);
+  if (n > 1) Vn.topRows(n - 1) = s.poisson.solve(b.topRows(n - 1));
+  // Normalisation.
+  const Eigen::RowVector3d mean = Vn.colwise().mean();
+  Vn.rowwise() -= mean;
+  switch (o.scale) {
+    case SpinScale::UnitMaxNorm: {
+      const double r = Vn.rowwise().norm().maxCoeff();
+      if (!(r > 0)) throw numerical_error("spin_transform: the reconstructed mesh collapsed to a point");
+      Vn /= r;
+      break;
+    }
+    case SpinScale::KeepArea: {
+      const double a = face_areas(Vn, s.F).sum();
+      if (!(a > 0)) throw numerical_error("spin_transform: the reconstructed mesh has zero area");
+      Vn *= std::sqrt(s.area0 / a);
+      Vn.rowwise() += s.mean0;
+      break;
+    }
+    case SpinScale::None: Vn.rowwise() += s.mean0; break;
+  }
+  if (!Vn.allFinite()) throw numerical_error("spin_transform: the reconstructed positions are not finite");
+  res.V = std::move(Vn);
+  res.timings.poisson = ms_since(t);
+  return res;
+}
+
+SpinTransformResult spin_transform(const Mesh& mesh, const Eigen::VectorXd& rho, const SpinTransformOptions& options) {
+  SpinTransform st(mesh, options);
+  return st.solve(rho);
+}
+
+}  // namespace spinmotor
