@@ -10,7 +10,7 @@
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
 #include "spinmotor/mesh/topology.hpp"
-#include "spinmotor/mesh/validate.hpp"
+#include "spinmotor/mesh/validate.hpp"  // require(): names a degenerate face
 
 namespace spinmotor {
 
@@ -48,12 +48,6 @@ const char* to_string(ArapInitial i) {
   return "rest";
 }
 
-DirichletSolver::Options ArapDeformer::Options::default_solver_options() {
-  DirichletSolver::Options o;
-  o.cholesky.supernodal = false;
-  return o;
-}
-
 ArapDeformer ArapDeformer::bind(const Mesh& rest, std::span<const Handle> handles) {
   return bind(rest, handles, Options{});
 }
@@ -65,7 +59,6 @@ ArapDeformer ArapDeformer::bind(const Mesh& rest, std::span<const Handle> handle
     throw Error(std::string(kWho) + ": tolerance must be finite and >= 0, got " + std::to_string(options.tolerance));
   if (handles.empty())
     throw Error(std::string(kWho) + ": needs at least one handle (ARAP is determined only up to a rigid motion)");
-  require(rest, {.finite = true, .no_degenerate = true}, kWho);  // names the first degenerate face
   check_handles(handles, rest.V.rows(), kWho);
 
   ArapDeformer d;
@@ -78,7 +71,19 @@ ArapDeformer ArapDeformer::bind(const Mesh& rest, std::span<const Handle> handle
   const Eigen::MatrixXi& F = d.F_;
 
   // The one-ring CSR: the off-diagonal pattern of the cotangent Laplacian (rows sorted per column).
-  d.L_ = cotangent_laplacian(rest.V, rest.F);
+  const auto t_weights = Clock::now();
+  Eigen::MatrixXd C;  // ½ cot per face corner (spokes and rims)
+  try {
+    d.L_ = cotangent_laplacian(rest.V, rest.F);
+    if (options.energy == ArapEnergy::SpokesAndRims) C = 0.5 * cotangents(rest.V, rest.F);
+  } catch (const Error&) {
+    // A degenerate face, a bad index or a non-finite coordinate: require() names it in the words of
+    // the mesh report ("ArapDeformer needs non-degenerate faces: face 2073 has zero area ...").
+    require(rest, {.finite = true, .no_degenerate = true}, kWho);
+    throw;
+  }
+  d.bind_report_.weights_ms = ms_since(t_weights);
+  const auto t_cells = Clock::now();
   Eigen::SparseMatrix<double>& L = d.L_;
   d.off_.assign(n + 1, 0);
   for (int i = 0; i < n; ++i)
@@ -123,7 +128,6 @@ ArapDeformer ArapDeformer::bind(const Mesh& rest, std::span<const Handle> handle
     // x_{k+2} − x_{k+1}) weighted c_k = ½ cot of corner k. Per face Σ_k c_k e_k e'_kᵀ = Σ_k G_k x'_kᵀ with
     // G_k = W_{k+1} − W_{k+2}, W_k = c_k e_k (Σ_k G_k = 0), and G_k is also the face's share of (L x)
     // at corner k, so B_a = ⅓ Σ_{t ∋ a} (R_t0 + R_t1 + R_t2) G_{t,k(a)}.
-    Eigen::MatrixXd C = 0.5 * cotangents(rest.V, rest.F);
     if (clamp) C = C.cwiseMax(0.0);
     d.rim_off_.assign(n + 1, 0);
     for (Eigen::Index t = 0; t < m; ++t)
@@ -192,12 +196,12 @@ ArapDeformer ArapDeformer::bind(const Mesh& rest, std::span<const Handle> handle
     if (!referenced[i]) unref.push_back(i);
   d.unreferenced_ = Eigen::Map<Eigen::VectorXi>(unref.data(), static_cast<Eigen::Index>(unref.size()));
 
+  d.bind_report_.cells_ms = ms_since(t_cells);
   d.bind_handles(handles);
 
   d.X_ = P;
   d.rot_.assign(n, ga::Rot(1.0, 0.0, 0.0, 0.0));
   d.Rm_.assign(n, Eigen::Matrix3d::Identity());
-  d.B_.setZero(n, 3);
   return d;
 }
 
@@ -245,15 +249,9 @@ void ArapDeformer::bind_handles(std::span<const Handle> handles) {
     throw Error(s.str());
   }
 
-  DirichletSolver solver(options_.solver);
-  const Eigen::VectorXi constrained = Eigen::Map<Eigen::VectorXi>(cons.data(), static_cast<Eigen::Index>(cons.size()));
-  try {
-    solver.bind(L_, constrained, DirichletSolver::Kind::SPD);
-  } catch (const Error& e) {
-    throw Error(std::string(kWho) + ": " + e.what(), e.kind());
-  }
-  solver_ = std::move(solver);
-  constrained_ = constrained;
+  const auto t_factor = Clock::now();
+  factorize(cons);
+  constrained_ = Eigen::Map<const Eigen::VectorXi>(cons.data(), static_cast<Eigen::Index>(cons.size()));
   constrained_handle_ = Eigen::Map<Eigen::VectorXi>(cons_handle.data(), static_cast<Eigen::Index>(cons_handle.size()));
   handle_sets_.clear();
   handle_names_.clear();
@@ -262,18 +260,170 @@ void ArapDeformer::bind_handles(std::span<const Handle> handles) {
     handle_names_.push_back(h.name);
   }
   values_.setZero(constrained_.size(), 3);
+  bind_report_.factor_ms = ms_since(t_factor);
+  bind_harmonic();
+}
 
+namespace {
+
+/// Geometric nested dissection of the vertices `nodes` of the graph (off, nbr): recursive median
+/// splits along the longest bounding-box axis; the vertices of the half with the shorter boundary
+/// that touch the other half form the separator, numbered after both halves. O(n log n). Appends the
+/// ordering to `order`; `label` (size n, 0 on entry for the nodes) is scratch.
+void nested_dissection(const ArapDeformer::RowMatrix3& P, const std::vector<int>& off, const std::vector<int>& nbr,
+                       std::vector<int>& nodes, std::vector<int>& label, int& next_label, std::vector<int>& order) {
+  constexpr std::size_t kLeaf = 32;
+  if (nodes.size() <= kLeaf) {
+    order.insert(order.end(), nodes.begin(), nodes.end());
+    return;
+  }
+  Eigen::RowVector3d lo = P.row(nodes[0]), hi = lo;
+  for (int v : nodes) lo = lo.cwiseMin(P.row(v)), hi = hi.cwiseMax(P.row(v));
+  int axis;
+  (hi - lo).maxCoeff(&axis);
+  const std::size_t mid = nodes.size() / 2;
+  std::nth_element(nodes.begin(), nodes.begin() + static_cast<std::ptrdiff_t>(mid), nodes.end(),
+                   [&](int a, int b) { return P(a, axis) < P(b, axis); });
+  const int L = next_label++, R = next_label++;
+  for (std::size_t k = 0; k < nodes.size(); ++k) label[nodes[k]] = k < mid ? L : R;
+  const auto touches = [&](int v, int other) {
+    for (int k = off[v]; k < off[v + 1]; ++k)
+      if (label[nbr[k]] == other) return true;
+    return false;
+  };
+  std::vector<int> left, right, sep_left, sep_right;
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    const int v = nodes[k];
+    const bool is_left = k < mid;
+    (touches(v, is_left ? R : L) ? (is_left ? sep_left : sep_right) : (is_left ? left : right)).push_back(v);
+  }
+  // Keep the shorter boundary as separator; the other goes back to its half.
+  std::vector<int>& sep = sep_left.size() <= sep_right.size() ? sep_left : sep_right;
+  if (&sep == &sep_left)
+    right.insert(right.end(), sep_right.begin(), sep_right.end());
+  else
+    left.insert(left.end(), sep_left.begin(), sep_left.end());
+  const int S = next_label++;
+  for (int v : sep) label[v] = S;
+  if (left.empty() || right.empty()) {  // no progress (e.g. coincident coordinates): stop here
+    order.insert(order.end(), nodes.begin(), nodes.end());
+    return;
+  }
+  std::vector<int>().swap(nodes);
+  nested_dissection(P, off, nbr, left, label, next_label, order);
+  nested_dissection(P, off, nbr, right, label, next_label, order);
+  order.insert(order.end(), sep.begin(), sep.end());
+}
+
+}  // namespace
+
+void ArapDeformer::factorize(const std::vector<int>& cons) {
+  const int n = static_cast<int>(P_.rows());
+  // Free vertices in a geometric nested-dissection order (free_pos_[i] ≥ 0 is the row of vertex i in
+  // L_FF; constrained vertices get −1 − their index in `cons`).
+  free_pos_.assign(n, 0);
+  for (std::size_t r = 0; r < cons.size(); ++r) free_pos_[cons[r]] = -1 - static_cast<int>(r);
+  std::vector<int> nodes, order;
+  for (int i = 0; i < n; ++i)
+    if (free_pos_[i] == 0) nodes.push_back(i);
+  const int nf = static_cast<int>(nodes.size()), nc = static_cast<int>(cons.size());
+  order.reserve(nf);
+  {
+    std::vector<int> label(n, -1);  // constrained vertices never match a label: they are not in the graph
+    int next_label = 0;
+    nested_dissection(P_, off_, nbr_, nodes, label, next_label, order);
+  }
+  for (int k = 0; k < nf; ++k) free_pos_[order[k]] = k;
+  free_order_ = Eigen::Map<Eigen::VectorXi>(order.data(), nf);
+
+  // L_FF (lower triangle, in that order) and L_FC, straight from the one-ring CSR.
+  std::vector<Eigen::Triplet<double>> ff, fc;
+  ff.reserve(static_cast<std::size_t>(nf) * 4);
+  const auto value = [&](int i, int j) { return L_.coeff(i, j); };
+  for (int k = 0; k < nf; ++k) {
+    const int i = order[k];
+    ff.emplace_back(k, k, value(i, i));
+    for (int s = off_[i]; s < off_[i + 1]; ++s) {
+      const int j = nbr_[s], pj = free_pos_[j];
+      const double lij = -w_[s];
+      if (pj >= 0) {
+        if (pj > k) ff.emplace_back(pj, k, lij);  // lower triangle: row > column
+      } else {
+        fc.emplace_back(k, -1 - pj, lij);
+      }
+    }
+  }
+  A_FC_.resize(nf, nc);
+  A_FC_.setFromTriplets(fc.begin(), fc.end());
+  A_FC_.makeCompressed();
+  rhs_.setZero(nf, 3);
+  bind_report_.factor_nonzeros = bind_report_.factor_flops = 0.0;
+  if (nf == 0) {  // every vertex is constrained: nothing to solve
+    chol_ = CholeskySolver();
+    bind_report_.ordering = "none";
+    return;
+  }
+  Eigen::SparseMatrix<double> A(nf, nf);
+  A.setFromTriplets(ff.begin(), ff.end());
+  A.makeCompressed();
+
+  // Fill-reducing ordering: AMD on L_FF, or the nested dissection above as is; with Auto both are
+  // analysed (symbolic only, cheap) and the one with fewer factorization flops is factorized.
+  const bool supernodal = options_.factorization == Options::Factorization::Supernodal ||
+                          (options_.factorization == Options::Factorization::Auto && nf >= Options::kSupernodalFrom);
+  const auto make = [&](CholeskySolver::Ordering o) { return CholeskySolver({o, supernodal}); };
+  try {
+    if (options_.ordering == Options::Ordering::AMD) {
+      chol_ = make(CholeskySolver::Ordering::AMD);
+      chol_.analyze(A);
+      bind_report_.ordering = "amd";
+    } else if (options_.ordering == Options::Ordering::NestedDissection) {
+      chol_ = make(CholeskySolver::Ordering::Natural);
+      chol_.analyze(A);
+      bind_report_.ordering = "nested-dissection";
+    } else {
+      CholeskySolver amd = make(CholeskySolver::Ordering::AMD), nd = make(CholeskySolver::Ordering::Natural);
+      amd.analyze(A);
+      nd.analyze(A);
+      const bool use_nd = nd.factor_flops() < amd.factor_flops();
+      chol_ = std::move(use_nd ? nd : amd);
+      bind_report_.ordering = use_nd ? "nested-dissection" : "amd";
+    }
+    chol_.factorize(A);
+  } catch (const Error& e) {
+    throw Error(std::string(kWho) + ": factorizing the free block of the Laplacian failed (its row r is vertex "
+                                    "free_order()[r]): " + e.what(),
+                e.kind());
+  }
+  bind_report_.factor_nonzeros = chol_.factor_nonzeros();
+  bind_report_.factor_flops = chol_.factor_flops();
+  bind_report_.supernodal = supernodal;
+}
+
+Eigen::MatrixXd ArapDeformer::solve_dirichlet(const Eigen::MatrixXd& values) const {
+  // L_FF X_F = −L_FC X_C; X_C = values (rows in constrained_ order).
+  Eigen::MatrixXd X(P_.rows(), values.cols());
+  for (Eigen::Index r = 0; r < constrained_.size(); ++r) X.row(constrained_[r]) = values.row(r);
+  if (free_order_.size() == 0) return X;
+  const Eigen::MatrixXd XF = chol_.solve(-(A_FC_ * values));
+  for (Eigen::Index k = 0; k < free_order_.size(); ++k) X.row(free_order_[k]) = XF.row(k);
+  return X;
+}
+
+void ArapDeformer::bind_harmonic() {
+  const auto t_harmonic = Clock::now();
   has_harmonic_ = false;
   if (options_.initial == ArapInitial::Harmonic) {
     // §IV with cotangent weights: λ_j = 1 on handle j, 0 on the others (unreferenced vertices: any
     // partition of unity, their positions are fixed anyway), one solve with k right-hand sides.
-    const Eigen::Index k = static_cast<Eigen::Index>(handles.size());
+    const Eigen::Index k = static_cast<Eigen::Index>(handle_sets_.size());
     Eigen::MatrixXd lambda = Eigen::MatrixXd::Zero(constrained_.size(), k);
     for (Eigen::Index r = 0; r < constrained_.size(); ++r) lambda(r, std::max(constrained_handle_[r], 0)) = 1.0;
-    MotorBlendField::Weights W = solver_.solve(lambda);
-    harmonic_ = MotorBlendField::bind(Eigen::MatrixXd(P_), std::move(W), ga::Blend::Log);
+    harmonic_ = MotorBlendField::bind(Eigen::MatrixXd(P_), MotorBlendField::Weights(solve_dirichlet(lambda)),
+                                      ga::Blend::Log);
     has_harmonic_ = true;
   }
+  bind_report_.harmonic_ms = ms_since(t_harmonic);
 }
 
 bool ArapDeformer::set_handles(std::span<const Handle> handles) {
@@ -304,13 +454,7 @@ bool ArapDeformer::set_handles(std::span<const Handle> handles) {
     handle_sets_.push_back(h.vertices);
     handle_names_.push_back(h.name);
   }
-  if (options_.initial == ArapInitial::Harmonic) {
-    const Eigen::Index k = static_cast<Eigen::Index>(handles.size());
-    Eigen::MatrixXd lambda = Eigen::MatrixXd::Zero(constrained_.size(), k);
-    for (Eigen::Index r = 0; r < constrained_.size(); ++r) lambda(r, std::max(constrained_handle_[r], 0)) = 1.0;
-    harmonic_ = MotorBlendField::bind(Eigen::MatrixXd(P_), MotorBlendField::Weights(solver_.solve(lambda)),
-                                      ga::Blend::Log);
-  }
+  bind_harmonic();
   return false;
 }
 
@@ -389,18 +533,26 @@ double ArapDeformer::local_step() {
 }
 
 void ArapDeformer::global_step() {
-  const Eigen::VectorXi& fr = solver_.free();
-  const Eigen::Index nf = fr.size();
-  // Eq. (12): B_i = R_i h_i + Σ_j R_j h_ij (right-hand sides of the free vertices only).
+  const Eigen::Index nf = free_order_.size();
+  if (nf == 0) return;
+  auto t = Clock::now();
+  // Eq. (12)–(13): rhs_k = B_i − (L_FC X_C)_k for the free vertex i of row k, B_i = R_i h_i + Σ_j R_j h_ij.
 #pragma omp parallel for schedule(static) if (nf >= kMinParallel)
-  for (Eigen::Index r = 0; r < nf; ++r) {
-    const int i = fr[r];
+  for (Eigen::Index k = 0; k < nf; ++k) {
+    const int i = free_order_[k];
     Eigen::Vector3d b = Rm_[i] * h_self_.row(i).transpose();
-    for (int k = off_[i]; k < off_[i + 1]; ++k) b.noalias() += Rm_[nbr_[k]] * h_.row(k).transpose();
-    B_(i, 0) = b[0], B_(i, 1) = b[1], B_(i, 2) = b[2];
+    for (int s = off_[i]; s < off_[i + 1]; ++s) b.noalias() += Rm_[nbr_[s]] * h_.row(s).transpose();
+    rhs_(k, 0) = b[0] - FCX_(k, 0), rhs_(k, 1) = b[1] - FCX_(k, 1), rhs_(k, 2) = b[2] - FCX_(k, 2);
   }
-  Xcol_ = solver_.solve(B_, values_);  // L_FF X_F = B_F − L_FC X_C, three columns at once (eq. 13)
-  X_ = Xcol_;
+  report_.rhs_ms += ms_since(t);
+  t = Clock::now();
+  XF_ = chol_.solve(rhs_);  // L_FF X_F = B_F − L_FC X_C, three columns at once
+  report_.solve_ms += ms_since(t);
+#pragma omp parallel for schedule(static) if (nf >= kMinParallel)
+  for (Eigen::Index k = 0; k < nf; ++k) {
+    const int i = free_order_[k];
+    X_(i, 0) = XF_(k, 0), X_(i, 1) = XF_(k, 1), X_(i, 2) = XF_(k, 2);
+  }
 }
 
 void ArapDeformer::pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out) {
@@ -431,6 +583,7 @@ void ArapDeformer::pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out)
     }
   }
   for (Eigen::Index r = 0; r < constrained_.size(); ++r) X_.row(constrained_[r]) = values_.row(r);
+  FCX_.noalias() = A_FC_ * values_;  // the handles' share of the right-hand side, fixed during the iteration
   report_.initial_ms = ms_since(t0);
 
   double E_prev = 0.0;

@@ -30,7 +30,8 @@
 //           not roundoff of the terms).
 //   global  L_FF X'_F = B_F − L_FC X'_C: the handle vertices C are eliminated (hard constraints,
 //           eq. 13 with the constrained rows and columns removed); L_FF is factorized once per handle
-//           set at bind (CHOLMOD through DirichletSolver) and the three coordinates are solved together.
+//           set at bind (CholeskySolver: CHOLMOD) and the three coordinates are solved together; the
+//           handles' share L_FC X'_C is computed once per pose.
 // Stopping: after k ≥ 1 global steps when E_{k−1} − E_k ≤ tolerance · E_{k−1}, or when E_k is zero to
 // roundoff (≤ 1e-24 of the rest-edge scale Σ w |e|²), or after `iterations` global steps. The report
 // lists E_0 (initial guess) … E_k: non-increasing (each step minimises exactly; ties to roundoff).
@@ -55,7 +56,7 @@
 
 #include "spinmotor/deform/deformer.hpp"
 #include "spinmotor/deform/motor_blend_field.hpp"
-#include "spinmotor/mesh/dirichlet_solver.hpp"
+#include "spinmotor/mesh/cholesky_solver.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 
 namespace spinmotor {
@@ -74,8 +75,21 @@ struct ArapReport {
   bool converged = false;          ///< stopped by the tolerance (or a zero energy), not by `iterations`
   double local_ms = 0.0;           ///< local steps (covariances, rotors, energies), all iterations
   double global_ms = 0.0;          ///< right-hand sides and solves, all iterations
+  double rhs_ms = 0.0;             ///< of which the right-hand sides (eq. 12)
+  double solve_ms = 0.0;           ///< of which the solves (CHOLMOD, 3 columns)
   double initial_ms = 0.0;         ///< placing the handles and the initial guess
   Eigen::Index jacobi_rotations = 0;  ///< local solves that took the Jacobi fallback (all iterations)
+};
+
+/// Where bind() spent its time (ms).
+struct ArapBindReport {
+  double weights_ms = 0.0;   ///< cotangent Laplacian (and face cotangents)
+  double cells_ms = 0.0;     ///< per-cell coefficients (one-ring CSR, rims)
+  double factor_ms = 0.0;    ///< component check, extraction of L_FF and its factorization
+  double harmonic_ms = 0.0;  ///< harmonic coordinates of the handles (initial = Harmonic)
+  std::string ordering;      ///< "amd" or "nested-dissection" (the one factorized)
+  bool supernodal = false;   ///< supernodal or simplicial factorization
+  double factor_nonzeros = 0.0, factor_flops = 0.0;  ///< of the Cholesky factor of L_FF
 };
 
 class ArapDeformer {
@@ -88,10 +102,20 @@ public:
     int iterations = 100;      ///< at most this many global steps per pose (≥ 0)
     double tolerance = 1e-6;   ///< relative energy change that stops the iteration (≥ 0)
     ArapInitial initial = ArapInitial::Rest;
-    /// Factorization of L_FF. Simplicial LDLᵀ by default: with the three right-hand sides of ARAP its
-    /// solve is ~2× faster than the supernodal one with reference BLAS (bench_arap).
-    DirichletSolver::Options solver = default_solver_options();
-    static DirichletSolver::Options default_solver_options();
+    /// Factorization of L_FF (CHOLMOD). Auto: simplicial LDLᵀ up to kSupernodalFrom free vertices,
+    /// supernodal LLᵀ above. Measured with reference BLAS (bench_arap, CPU time): on the 80k tube the
+    /// simplicial solve of ARAP's three right-hand sides takes 14 ms against 27 ms supernodal
+    /// (factorization 530 ms against 340 ms: simplicial pays off after ~15 iterations with one handle
+    /// set); on the 1M tube the simplicial factorization takes 30 s against 11 s.
+    enum class Factorization { Auto, Simplicial, Supernodal };
+    Factorization factorization = Factorization::Auto;
+    static constexpr Eigen::Index kSupernodalFrom = 300'000;
+    /// Fill-reducing ordering of L_FF. Auto: both AMD and a geometric nested dissection (recursive
+    /// median splits of the free vertices along their longest axis, the shorter boundary as
+    /// separator) are analysed and the one with fewer factorization flops is used. Measured: AMD wins
+    /// on nefertiti (140 Mflop against 394), nested dissection on the 80k tube (593 against 1060).
+    enum class Ordering { Auto, AMD, NestedDissection };
+    Ordering ordering = Ordering::Auto;
   };
 
   ArapDeformer() = default;
@@ -122,14 +146,20 @@ public:
   /// The best rotor of every cell for the last pose's output (n, ga::Rot).
   const std::vector<ga::Rot>& rotors() const { return rot_; }
   const ArapReport& report() const { return report_; }
+  const ArapBindReport& bind_report() const { return bind_report_; }
   const Options& options() const { return options_; }
   Eigen::Index vertices() const { return P_.rows(); }
   Eigen::Index handles() const { return static_cast<Eigen::Index>(handle_sets_.size()); }
   /// The global matrix (the cotangent Laplacian with the energy's weights), n×n.
   const Eigen::SparseMatrix<double>& laplacian() const { return L_; }
+  /// The free vertex of each row of the factorized block L_FF (for messages of the factorization).
+  const Eigen::VectorXi& free_order() const { return free_order_; }
 
 private:
   void bind_handles(std::span<const Handle> handles);
+  void factorize(const std::vector<int>& constrained);
+  void bind_harmonic();
+  Eigen::MatrixXd solve_dirichlet(const Eigen::MatrixXd& values) const;
   double local_step();
   void global_step();
   double cell_energy_direct(Eigen::Index i, const Eigen::Matrix3d& R, const RowMatrix3& X) const;
@@ -155,7 +185,10 @@ private:
   std::vector<Eigen::VectorXi> handle_sets_;
   std::vector<std::string> handle_names_;
   Eigen::VectorXi constrained_, constrained_handle_;  // handle of each constrained vertex (−1: unreferenced)
-  DirichletSolver solver_;
+  std::vector<int> free_pos_;                 // row of each free vertex in L_FF, −1 − index if constrained
+  Eigen::VectorXi free_order_;                // the free vertex of each row of L_FF
+  Eigen::SparseMatrix<double> A_FC_;          // L_FC (free rows in free_order_, constrained columns)
+  CholeskySolver chol_;                       // factor of L_FF
   MotorBlendField harmonic_;
   bool has_harmonic_ = false;
 
@@ -164,9 +197,10 @@ private:
   std::vector<ga::Rot> rot_;
   std::vector<ga::Mot> motors_;
   std::vector<Eigen::Matrix3d> Rm_;
-  Eigen::MatrixXd B_, values_, Xcol_;
+  Eigen::MatrixXd values_, Xcol_, FCX_, rhs_, XF_;
   bool has_previous_ = false;
   ArapReport report_;
+  ArapBindReport bind_report_;
 };
 
 }  // namespace spinmotor
