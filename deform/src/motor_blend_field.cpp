@@ -1,9 +1,9 @@
 #include "spinmotor/deform/motor_blend_field.hpp"
 
-#include <atomic>
 #include <cmath>
 #include <sstream>
 
+#include "spinmotor/deform/deformer.hpp"
 #include "spinmotor/error.hpp"
 
 namespace spinmotor {
@@ -68,7 +68,7 @@ void run_field(const MotorBlendField::Weights& W, const Eigen::Matrix<double, Ei
   const ga::Dll* lg = logs.data();
   const ga::Mot* mo = motors.data();
   const double* sg = signs.data();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > kParallelBelow)
   for (Eigen::Index i = 0; i < n; ++i) {
     ga::Mot m = field_motor<Mode>(w + i * k, k, pv ? pv[i] : 0, lg, mo, sg);
     if (inverse) m = ga::reverse(m);

@@ -1,0 +1,54 @@
+#pragma once
+// Running a scene: bind its deformer once, pose every frame, measure, and write the outputs.
+//
+// run_scene computes everything in memory (no file is touched); write_outputs then writes each
+// frame's mesh, metrics JSON and colour PLY atomically (AtomicFile). If any write fails, the files
+// this call already wrote are removed, so an error never leaves part of a run on disk.
+//
+// Metrics JSON of a frame (SCENE.md `output.metrics`):
+//   scene, mesh, deformer, vertices, faces, bind_ms, pose_ms, q_mean, q_max, area_distortion,
+//   max_handle_error, frame (animations only), metrics (the full compute_metrics object, see
+//   mesh/metrics/json.hpp), the deformer's own figures (e.g. "ik", "fit"), and "snap": "not
+//   implemented" while the conformal snap is not available in this build.
+// Animated scenes (`frames`) number their outputs: out/x.obj -> out/x.0000.obj, out/x.0001.obj, ...
+#include <Eigen/Core>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "spinmotor/scene/scene.hpp"
+
+namespace spinmotor::scene {
+
+struct FrameResult {
+  Eigen::MatrixXd V;       ///< deformed positions (n×3)
+  double pose_ms = 0;      ///< time of the deformer's pose() for this frame
+  nlohmann::json metrics;  ///< the metrics document of this frame
+};
+
+struct RunResult {
+  double bind_ms = 0;
+  std::vector<FrameResult> frames;
+  std::vector<std::string> warnings;  ///< e.g. snap not available
+};
+
+/// Binds and poses. Throws Error naming the JSON path of a pose entry no control has, or what the
+/// deformer reports (handle, component, ...).
+RunResult run_scene(const Scene& scene);
+
+/// Where output `spec` of frame `frame` goes: relative paths against out_dir if given, else the scene
+/// directory; animated scenes insert the 4-digit frame number before the extension.
+std::filesystem::path output_path(const Scene& scene, const std::filesystem::path& spec, int frame,
+                                  const std::optional<std::filesystem::path>& out_dir);
+
+/// Writes the outputs the scene asks for; returns the files written.
+std::vector<std::filesystem::path> write_outputs(const Scene& scene, const RunResult& result,
+                                                 const std::optional<std::filesystem::path>& out_dir = std::nullopt);
+
+/// Binary PLY of the deformed mesh with per-face colours of the quasi-conformal error Q (blue at
+/// Q = 1 through yellow to red at Q ≥ 2, log scale). Atomic.
+void write_q_colors_ply(const std::filesystem::path& path, const Mesh& rest, const Eigen::MatrixXd& V);
+
+}  // namespace spinmotor::scene
