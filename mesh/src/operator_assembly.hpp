@@ -83,35 +83,39 @@ struct VertexCorners {
 };
 VertexCorners vertex_corners(const Eigen::MatrixXi& F, Eigen::Index n);
 
-/// Sorts (row, value) pairs by row, stably (so duplicate rows are summed in gather order:
-/// deterministic results), then merges duplicates in place. Returns the number of unique rows.
+/// Sorts (row, value) pairs by row, stably, then merges duplicate rows in place (summing in order:
+/// deterministic). Returns the number of unique rows.
 int sort_and_merge(std::vector<std::pair<int, double>>& buf);
 
 /// Assembles the n×n column-major matrix Σ_f P_fᵀ K_f P_f, with K_f the 3×3 element matrix of face f
 /// given by entry(f, r, c) = K_f(r, c) (r, c corners). Column j gathers its entries from the corners
-/// of j (parallel over columns, no triplets, no atomics), rows sorted and unique; the diagonal is
-/// always stored. Requires every face to have three distinct vertices.
+/// of j (parallel over columns, no triplets, no atomics, sums in a fixed order whatever the thread
+/// count), rows sorted and unique; the diagonal is always stored. Requires every face to have three
+/// distinct vertices.
 template <class Entry>
 Eigen::SparseMatrix<double> assemble_vertex_operator(const Eigen::MatrixXi& F, Eigen::Index n,
                                                      Entry&& entry) {
   const VertexCorners vc = vertex_corners(F, n);
   Eigen::SparseMatrix<double> A(n, n);
   std::vector<int> col_nnz(static_cast<size_t>(n));
-  // Pass 1: number of distinct rows per column (the diagonal plus the distinct one-ring neighbours).
+  // Pass 1: number of distinct rows per column (the diagonal plus the distinct one-ring neighbours),
+  // deduplicated with a per-thread slot array (slot[row] ≥ 0 while row is in the current column).
 #pragma omp parallel if (n > kParallelGrain)
   {
-    std::vector<int> rows;
+    std::vector<int> slot(static_cast<size_t>(n), -1), rows;
 #pragma omp for schedule(static)
     for (Eigen::Index j = 0; j < n; ++j) {
-      rows.clear();
-      rows.push_back(static_cast<int>(j));
+      rows.assign(1, static_cast<int>(j));
+      slot[j] = 0;
       for (int k = vc.offset[j]; k < vc.offset[j + 1]; ++k) {
         const int f = vc.corner[k] / 3, c = vc.corner[k] % 3;
-        rows.push_back(F(f, (c + 1) % 3));
-        rows.push_back(F(f, (c + 2) % 3));
+        for (int d = 1; d < 3; ++d) {
+          const int r = F(f, (c + d) % 3);
+          if (slot[r] < 0) slot[r] = static_cast<int>(rows.size()), rows.push_back(r);
+        }
       }
-      std::sort(rows.begin(), rows.end());
-      col_nnz[j] = static_cast<int>(std::unique(rows.begin(), rows.end()) - rows.begin());
+      col_nnz[j] = static_cast<int>(rows.size());
+      for (int r : rows) slot[r] = -1;
     }
   }
   int* outer = A.outerIndexPtr();
@@ -120,21 +124,25 @@ Eigen::SparseMatrix<double> assemble_vertex_operator(const Eigen::MatrixXi& F, E
   A.resizeNonZeros(outer[n]);
   int* inner = A.innerIndexPtr();
   double* value = A.valuePtr();
-  // Pass 2: gather, sort, merge, write.
+  // Pass 2: accumulate each column's entries in gather order (deterministic sums), then sort the few
+  // distinct rows and write them.
 #pragma omp parallel if (n > kParallelGrain)
   {
+    std::vector<int> slot(static_cast<size_t>(n), -1);
     std::vector<std::pair<int, double>> buf;
 #pragma omp for schedule(static)
     for (Eigen::Index j = 0; j < n; ++j) {
-      buf.clear();
-      buf.emplace_back(static_cast<int>(j), 0.0);
+      buf.assign(1, {static_cast<int>(j), 0.0});
+      slot[j] = 0;
       for (int k = vc.offset[j]; k < vc.offset[j + 1]; ++k) {
         const int f = vc.corner[k] / 3, c = vc.corner[k] % 3;
         for (int d = 0; d < 3; ++d) {
-          const int r = (c + d) % 3;
-          buf.emplace_back(F(f, r), entry(f, r, c));
+          const int r = (c + d) % 3, row = F(f, r);
+          if (slot[row] < 0) slot[row] = static_cast<int>(buf.size()), buf.emplace_back(row, 0.0);
+          buf[slot[row]].second += entry(f, r, c);
         }
       }
+      for (const auto& e : buf) slot[e.first] = -1;
       const int cnt = sort_and_merge(buf);
       int pos = outer[j];
       for (int k = 0; k < cnt; ++k, ++pos) {
