@@ -3,38 +3,43 @@
 #include <Spectra/MatOp/SparseSymMatProd.h>
 #include <Spectra/SymGEigsSolver.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <numeric>
 #include <sstream>
 
 #include "spinmotor/error.hpp"
-#include "spinmotor/mesh/cholesky_solver.hpp"
 #include "spinmotor/mesh/validate.hpp"
 #include "spinmotor/spin/dirac_assembly.hpp"
 #include "spinmotor/spin/quaternion_matrix.hpp"
+#include "cholmod_llt.hpp"
 
 namespace spinmotor {
 
 namespace {
 
-// Spectra's B operation for regular-inverse mode: B x and B⁻¹ x with B = A*A (lower triangle stored).
-class NormalMatrixOp {
+using LLT = detail::CholmodLLT<double>;
+
+// Spectra's B operation in Cholesky mode, B = A*A = Pᵀ L Lᵀ P: the two triangular solves, so that the
+// Lanczos iteration runs on the standard symmetric operator L⁻¹ P (B*A) Pᵀ L⁻ᵀ (no B-inner products).
+class NormalMatrixCholesky {
 public:
   using Scalar = double;
-  NormalMatrixOp(const Eigen::SparseMatrix<double>& K, const CholeskySolver& chol) : K_(K), chol_(chol) {}
-  Eigen::Index rows() const { return K_.rows(); }
-  Eigen::Index cols() const { return K_.cols(); }
-  void solve(const double* x, double* y) const {
-    Eigen::Map<Eigen::VectorXd>(y, K_.rows()) = chol_.solve(Eigen::Map<const Eigen::VectorXd>(x, K_.rows()));
+  explicit NormalMatrixCholesky(const LLT& llt) : llt_(llt) {}
+  Eigen::Index rows() const { return llt_.rows(); }
+  Eigen::Index cols() const { return llt_.rows(); }
+  void lower_triangular_solve(const double* x, double* y) const {  // y = L⁻¹ P x
+    const Eigen::VectorXd px = llt_.solve(Eigen::Map<const Eigen::VectorXd>(x, rows()), LLT::System::P);
+    Eigen::Map<Eigen::VectorXd>(y, rows()) = llt_.solve(px, LLT::System::L);
   }
-  void perform_op(const double* x, double* y) const {
-    Eigen::Map<Eigen::VectorXd>(y, K_.rows()).noalias() =
-        K_.selfadjointView<Eigen::Lower>() * Eigen::Map<const Eigen::VectorXd>(x, K_.rows());
+  void upper_triangular_solve(const double* x, double* y) const {  // y = Pᵀ L⁻ᵀ x
+    const Eigen::VectorXd z = llt_.solve(Eigen::Map<const Eigen::VectorXd>(x, rows()), LLT::System::Lt);
+    Eigen::Map<Eigen::VectorXd>(y, rows()) = llt_.solve(z, LLT::System::Pt);
   }
 
 private:
-  const Eigen::SparseMatrix<double>& K_;
-  const CholeskySolver& chol_;
+  const LLT& llt_;
 };
 
 }  // namespace
@@ -77,30 +82,69 @@ DiracSpectrum dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     s << "dirac_spectrum: count must be in [1, " << Nr - 1 << "], got " << count;
     throw Error(s.str());
   }
-  CholeskySolver chol({.ordering = CholeskySolver::Ordering::Natural, .supernodal = true});
-  chol.compute(K);
+  LLT chol;  // natural order: DiracAssembly ordered the vertices
+  chol.analyze(K);
+  chol.factorize(K);
 
   using Op = Spectra::SparseSymMatProd<double, Eigen::Lower>;
   Op op(G);
-  NormalMatrixOp bop(K, chol);
+  NormalMatrixCholesky bop(chol);
+  // Every eigenvalue is (at least) 4-fold — quaternionic — and single-vector Lanczos finds the copies
+  // of an exactly multiple eigenvalue only through rounding and restarts: ask for two multiplets more
+  // than wanted so that a late copy is not crowded out by the next eigenvalue.
+  const int nev = static_cast<int>(std::min<Eigen::Index>(count + 8, Nr - 1));
   const int ncv = options.ncv > 0 ? std::min<int>(options.ncv, static_cast<int>(Nr))
-                                  : static_cast<int>(std::min<Eigen::Index>(Nr, std::max(2 * count + 1, count + 40)));
-  if (ncv <= count) throw Error("dirac_spectrum: ncv must exceed count");
-  Spectra::SymGEigsSolver<Op, NormalMatrixOp, Spectra::GEigsMode::RegularInverse> eigs(op, bop, count, ncv);
+                                  : static_cast<int>(std::min<Eigen::Index>(Nr, std::max(2 * nev + 1, nev + 40)));
+  if (ncv <= nev) throw Error("dirac_spectrum: ncv must exceed count + 8");
+  Spectra::SymGEigsSolver<Op, NormalMatrixCholesky, Spectra::GEigsMode::Cholesky> eigs(op, bop, nev, ncv);
   eigs.init();
   eigs.compute(Spectra::SortRule::LargestMagn, options.max_iterations, options.tolerance, Spectra::SortRule::LargestMagn);
   if (eigs.info() != Spectra::CompInfo::Successful) {
     std::ostringstream s;
-    s << "dirac_spectrum: Spectra did not converge (" << eigs.num_iterations() << " restarts, " << count
+    s << "dirac_spectrum: Spectra did not converge (" << eigs.num_iterations() << " restarts, " << nev
       << " eigenvalues, ncv " << ncv << ")";
     throw numerical_error(s.str());
   }
-  const Eigen::VectorXd mu = eigs.eigenvalues();
+  // Quaternionic completion. Right multiplication by i, j, k commutes with both (left-quaternionic)
+  // matrices, so the eigenspaces are closed under it; Lanczos may still have missed some real copies
+  // of a multiple eigenvalue (it did on the icosphere). Rayleigh–Ritz of the pencil on
+  // span{X, Xi, Xj, Xk} recovers every copy of each quaternionic line Lanczos touched.
+  const Eigen::MatrixXd X = eigs.eigenvectors();
+  Eigen::MatrixXd S(Nr, 4 * nev);
+  for (int t = 0; t < nev; ++t)
+    for (Eigen::Index v = 0; v < Nr / 4; ++v) {
+      const double a = X(4 * v, t), b = X(4 * v + 1, t), c = X(4 * v + 2, t), d = X(4 * v + 3, t);
+      S.block<4, 1>(4 * v, t) << a, b, c, d;                 // q
+      S.block<4, 1>(4 * v, nev + t) << -b, a, d, -c;        // q i
+      S.block<4, 1>(4 * v, 2 * nev + t) << -c, -d, a, b;    // q j
+      S.block<4, 1>(4 * v, 3 * nev + t) << -d, c, -b, a;    // q k
+    }
+  Eigen::MatrixXd KS(Nr, 4 * nev), GS(Nr, 4 * nev);
+  for (int t = 0; t < 4 * nev; ++t) {
+    KS.col(t) = K.selfadjointView<Eigen::Lower>() * S.col(t);
+    GS.col(t) = G.selfadjointView<Eigen::Lower>() * S.col(t);
+  }
+  Eigen::MatrixXd Ks = S.transpose() * KS, Gs = S.transpose() * GS;
+  Ks = (0.5 * (Ks + Ks.transpose())).eval();
+  Gs = (0.5 * (Gs + Gs.transpose())).eval();
+  // K-orthonormal basis of span S (drops the dependent columns: copies already in the same line).
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ek(Ks);
+  const double kmax = ek.eigenvalues().maxCoeff();
+  std::vector<Eigen::Index> keep;
+  for (Eigen::Index i = 0; i < ek.eigenvalues().size(); ++i)
+    if (ek.eigenvalues()[i] > 1e-10 * kmax) keep.push_back(i);
+  Eigen::MatrixXd T(4 * nev, static_cast<Eigen::Index>(keep.size()));
+  for (std::size_t i = 0; i < keep.size(); ++i)
+    T.col(static_cast<Eigen::Index>(i)) = ek.eigenvectors().col(keep[i]) / std::sqrt(ek.eigenvalues()[keep[i]]);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eg(T.transpose() * Gs * T);
+  const Eigen::VectorXd mu = eg.eigenvalues();
+  const Eigen::Index nr = mu.size();
+  if (nr < count) throw numerical_error("dirac_spectrum: the Lanczos subspace is too small for the requested count");
   DiracSpectrum out;
   out.constant_kernel = constants ? 4 : 0;
   out.iterations = eigs.num_iterations();
   out.operations = eigs.num_operations();
-  std::vector<int> idx(count);
+  std::vector<int> idx(static_cast<std::size_t>(nr));
   std::iota(idx.begin(), idx.end(), 0);
   Eigen::VectorXd gamma = mu.cwiseInverse();
   std::stable_sort(idx.begin(), idx.end(), [&](int a, int b) {
@@ -111,12 +155,12 @@ DiracSpectrum dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
   out.eigenvalues.resize(count);
   for (int t = 0; t < count; ++t) out.eigenvalues[t] = gamma[idx[t]];
   if (options.eigenvectors) {
-    const Eigen::MatrixXd X = eigs.eigenvectors();
+    const Eigen::MatrixXd Y = S * T * eg.eigenvectors();
     const Eigen::VectorXd& Mv = as.vertex_areas();
     out.eigenvectors.resize(4 * V.rows(), count);
     for (int t = 0; t < count; ++t) {
       Eigen::VectorXd x = Eigen::VectorXd::Zero(N);
-      x.head(Nr) = X.col(idx[t]);
+      x.head(Nr) = Y.col(idx[t]).normalized();
       Eigen::MatrixXd lambda = as.expand(x, {});
       if (constants) {
         const Eigen::RowVector4d mean = (Mv.asDiagonal() * lambda).colwise().sum() / Mv.sum();

@@ -16,13 +16,14 @@
 #include "spinmotor/mesh/validate.hpp"
 #include "spinmotor/ga/quaternion.hpp"
 #include "spinmotor/spin/quaternion_matrix.hpp"
-#include "hermitian_cholesky.hpp"
+#include "cholmod_llt.hpp"
 
 namespace spinmotor {
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using ComplexLLT = detail::CholmodLLT<std::complex<double>>;
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
 CholeskySolver::Ordering to_cholmod(VertexOrdering o) {
@@ -259,7 +260,7 @@ struct SpinTransform::Impl {
   Eigen::SparseMatrix<double> K, G;
   Eigen::SparseMatrix<std::complex<double>> Kc, Gc;
   CholeskySolver chol;
-  detail::HermitianCholesky cchol;
+  ComplexLLT cchol;
   Eigen::VectorXd start;       // normalised all-ones start vector (unknowns)
   Eigen::VectorXcd cstart;
   // Poisson.
@@ -271,7 +272,7 @@ struct SpinTransform::Impl {
   explicit Impl(const SpinTransformOptions& o)
       : opt(o),
         chol({.ordering = CholeskySolver::Ordering::Natural, .supernodal = o.supernodal}),
-        cchol(detail::HermitianCholesky::Ordering::Natural, o.supernodal) {}
+        cchol(ComplexLLT::Ordering::Natural, o.supernodal) {}
 };
 
 SpinTransform::SpinTransform(const Mesh& mesh, const SpinTransformOptions& options)
@@ -345,9 +346,9 @@ SpinTransform::SpinTransform(const Mesh& mesh, const SpinTransformOptions& optio
   s.complex = o.complex_form && !s.as->has_reductions();
   if (o.order_full_matrix) {
     s.chol = CholeskySolver({.ordering = to_cholmod(o.ordering), .supernodal = o.supernodal});
-    s.cchol = detail::HermitianCholesky(o.ordering == VertexOrdering::METIS ? detail::HermitianCholesky::Ordering::METIS
-                                        : o.ordering == VertexOrdering::AMD ? detail::HermitianCholesky::Ordering::AMD
-                                                                              : detail::HermitianCholesky::Ordering::Natural,
+    s.cchol = ComplexLLT(o.ordering == VertexOrdering::METIS ? ComplexLLT::Ordering::METIS
+                                        : o.ordering == VertexOrdering::AMD ? ComplexLLT::Ordering::AMD
+                                                                              : ComplexLLT::Ordering::Natural,
                                         o.supernodal);
   }
   if (o.problem == SpinEigenProblem::Standard) {

@@ -9,9 +9,9 @@
 // is singular; the pencil is well defined on the quotient by the constants, and restricting it to
 // the complement {λ_p = 0} for one vertex p represents that quotient exactly (A*A and B*A annihilate
 // the constants, so the dropped rows of p follow from the others). On that complement A*A is
-// positive definite, and Spectra's Lanczos solver in regular-inverse mode computes the eigenvalues
-// μ = 1/γ of largest magnitude of B*A x = μ A*A x, each product using one solve with the CHOLMOD
-// factor of A*A. The constants are reported separately (constant_kernel = 4, γ = 0). With ρ ≢ 0
+// positive definite, and Spectra's Lanczos solver in Cholesky mode computes the eigenvalues μ = 1/γ of
+// largest magnitude of B*A x = μ A*A x, i.e. of the symmetric L⁻¹(B*A)L⁻ᵀ with A*A = LLᵀ (CHOLMOD),
+// each product costing one pair of triangular solves. The constants are reported separately (constant_kernel = 4, γ = 0). With ρ ≢ 0
 // nothing is removed.
 #include <Eigen/Core>
 
@@ -20,7 +20,7 @@ namespace spinmotor {
 struct DiracSpectrumOptions {
   int count = 20;             ///< number of eigenvalues nearest 0 (real multiplicities, constants excluded)
   int ncv = 0;                ///< Lanczos basis size; 0 means min(N, max(2·count + 1, count + 40))
-  double tolerance = 1e-10;   ///< Spectra's relative tolerance on the Ritz values
+  double tolerance = 1e-8;    ///< Spectra's relative tolerance on the Ritz values (then refined by Rayleigh–Ritz)
   int max_iterations = 1000;  ///< Spectra restarts
   bool eigenvectors = false;  ///< also return the eigenvectors
 };
