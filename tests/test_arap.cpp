@@ -414,3 +414,58 @@ TEST_CASE("ARAP on ogre.obj: the first defect is named instead of a numerical fa
     CHECK((msg.find("face") != std::string::npos || msg.find("component") != std::string::npos));
   }
 }
+
+TEST_CASE("ARAP: orderings and factorizations give the same solution; all-constrained meshes", "[arap]") {
+  const Mesh m = tube(0.5, 3.0, 30, 12);
+  const std::vector<Handle> hs = {z_slab(m, 0.0, 0.05, "bottom"), z_slab(m, 0.95, 1.0, "top")};
+  const std::vector<ga::Mot> motors = {ga::Mot(1, 0, 0, 0, 0, 0, 0, 0), rigid({1, 0, 0}, 40.0, {0, 0.5, 0})};
+  using O = ArapDeformer::Options;
+  Eigen::MatrixXd reference;
+  for (O::Ordering ordering : {O::Ordering::AMD, O::Ordering::NestedDissection, O::Ordering::Auto})
+    for (O::Factorization f : {O::Factorization::Simplicial, O::Factorization::Supernodal}) {
+      O o;
+      o.ordering = ordering;
+      o.factorization = f;
+      o.iterations = 20;
+      o.tolerance = 0.0;
+      ArapDeformer d = ArapDeformer::bind(m, hs, o);
+      CHECK(d.bind_report().supernodal == (f == O::Factorization::Supernodal));
+      if (ordering == O::Ordering::AMD) CHECK(d.bind_report().ordering == "amd");
+      if (ordering == O::Ordering::NestedDissection) CHECK(d.bind_report().ordering == "nested-dissection");
+      CHECK(d.free_order().size() == m.V.rows() - hs[0].vertices.size() - hs[1].vertices.size());
+      Eigen::MatrixXd V;
+      d.pose(motors, V);
+      if (reference.size() == 0) reference = V;
+      CHECK((V - reference).cwiseAbs().maxCoeff() < 1e-10);
+    }
+  // Every vertex in a handle: nothing to solve, the mesh moves with its motor.
+  std::vector<int> all(m.V.rows());
+  for (int i = 0; i < m.V.rows(); ++i) all[i] = i;
+  const std::vector<Handle> everything = {{"all", Eigen::Map<Eigen::VectorXi>(all.data(), m.V.rows())}};
+  ArapDeformer d = ArapDeformer::bind(m, everything);
+  Eigen::MatrixXd V;
+  const ga::Mot M = rigid({0, 0, 1}, 30, {1, 2, 3});
+  d.pose(std::vector<ga::Mot>{M}, V);
+  CHECK((V - apply(M, m.V)).cwiseAbs().maxCoeff() < 1e-12);
+  CHECK(d.report().energy.back() < 1e-20);
+}
+
+TEST_CASE("ARAP: the previous initial guess warm-starts a sequence of poses", "[arap]") {
+  const Mesh m = tube(0.5, 3.0, 24, 12);
+  const std::vector<Handle> hs = {z_slab(m, 0.0, 0.05, "bottom"), z_slab(m, 0.95, 1.0, "top")};
+  int iterations[2] = {0, 0};
+  for (ArapInitial initial : {ArapInitial::Rest, ArapInitial::Previous}) {
+    ArapDeformer::Options o;
+    o.initial = initial;
+    o.tolerance = 1e-6;
+    o.iterations = 500;
+    ArapDeformer d = ArapDeformer::bind(m, hs, o);
+    Eigen::MatrixXd V;
+    for (int frame = 0; frame <= 5; ++frame) {  // the top turns by 10° per frame
+      d.pose(std::vector<ga::Mot>{ga::Mot(1, 0, 0, 0, 0, 0, 0, 0), rigid({0, 1, 0}, 10.0 * frame, {0, 0, 0})}, V);
+      if (frame > 0) iterations[initial == ArapInitial::Previous] += d.report().iterations;
+    }
+  }
+  INFO("iterations over 5 frames: rest " << iterations[0] << ", previous " << iterations[1]);
+  CHECK(iterations[1] < iterations[0]);
+}

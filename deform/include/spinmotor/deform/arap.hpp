@@ -46,7 +46,9 @@
 //   Rest      rest positions with the handles placed;
 //   Harmonic  surface harmonic coordinates (CGA paper §IV) blending the handle motors, exp(Σ λ_j log M_j),
 //             with the same cotangent Laplacian (λ solved with the ARAP factorization: k extra right-hand
-//             sides at bind, no second factorization): far fewer iterations for large rotations;
+//             sides at bind, no second factorization): fewer iterations for large rotations (measured:
+//             90° bends, 176 instead of 324 iterations to 1e-7 on a bar, 392 instead of 1146 to 1e-5 on
+//             a 10k tube), not always at moderate ones (a 60° turn of a tube: 60 instead of 50);
 //   Previous  the previous pose's result with the handles re-placed (Rest on the first pose): for
 //             interactive or animated posing.
 #include <Eigen/Core>
