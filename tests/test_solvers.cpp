@@ -176,7 +176,7 @@ TEST_CASE("CholeskySolver: agrees with Eigen's SimplicialLDLT for every ordering
   REQUIRE(ref.info() == Eigen::Success);
   const MatrixXd Xref = ref.solve(B);
   using O = CholeskySolver::Ordering;
-  for (O o : {O::Natural, O::AMD, O::METIS, O::NESDIS})
+  for (O o : {O::Auto, O::Natural, O::AMD, O::METIS, O::NESDIS})
     for (bool super : {true, false}) {
       CholeskySolver c({o, super});
       c.compute(A);

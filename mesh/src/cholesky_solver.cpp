@@ -13,6 +13,9 @@ namespace spinmotor {
 namespace {
 // Relative pivot size below which a factor is declared numerically singular (cond ≳ 4.5e12).
 constexpr double kSingular = 1e3 * std::numeric_limits<double>::epsilon();
+// Ordering::Auto switches from AMD to METIS at this many rows (bench_laplacian: AMD is faster
+// overall at 100k, METIS at 1M).
+constexpr Eigen::Index kAutoMetisRows = 500000;
 }  // namespace
 
 struct CholeskySolver::Impl {
@@ -28,15 +31,7 @@ struct CholeskySolver::Impl {
     common.print = 0;  // failures are reported by our exceptions, not on stderr
     common.error_handler = nullptr;
     common.nmethods = 1;
-    common.method[0].ordering = [&] {
-      switch (o.ordering) {
-        case Ordering::Natural: return CHOLMOD_NATURAL;
-        case Ordering::AMD: return CHOLMOD_AMD;
-        case Ordering::METIS: return CHOLMOD_METIS;
-        case Ordering::NESDIS: return CHOLMOD_NESDIS;
-      }
-      return CHOLMOD_AMD;
-    }();
+    common.method[0].ordering = CHOLMOD_AMD;  // set per matrix in analyze()
     common.postorder = 1;
     common.supernodal = o.supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
   }
@@ -104,6 +99,16 @@ void CholeskySolver::analyze(const Eigen::SparseMatrix<double>& A) {
   m.n = A.rows();
   m.pattern = detail::pattern_hash(A);
   if (m.n == 0) return;  // nothing to factor; solve() returns 0×k
+  m.common.method[0].ordering = [&] {
+    switch (m.options.ordering) {
+      case Ordering::Auto: return m.n < kAutoMetisRows ? CHOLMOD_AMD : CHOLMOD_METIS;
+      case Ordering::Natural: return CHOLMOD_NATURAL;
+      case Ordering::AMD: return CHOLMOD_AMD;
+      case Ordering::METIS: return CHOLMOD_METIS;
+      case Ordering::NESDIS: return CHOLMOD_NESDIS;
+    }
+    return CHOLMOD_AMD;
+  }();
   cholmod_sparse s = Impl::view(A);
   m.L = cholmod_analyze(&s, &m.common);
   if (!m.L) m.check_status("analyze"), throw numerical_error("CholeskySolver: CHOLMOD analyze failed");
