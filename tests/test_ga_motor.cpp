@@ -175,7 +175,8 @@ TEST_CASE("small rotations are not lost (Versor's exp drops |B| < 1e-4)", "[ga][
   }
 }
 
-TEST_CASE("log of a rotation is -½θ n to full relative precision (Versor loses ~1e-6 near 0)", "[ga][motor][log]") {
+TEST_CASE("log of a rotation is -½θ n to full relative precision (Versor loses ~1e-6 near 0)",
+          "[ga][motor][log]") {
   std::mt19937 g(10);
   for (double angle : {3.0, 1.0, 1e-3, 1e-6, 1e-9, 1e-12, 1e-200}) {
     const Vector3d n = random_unit(g);
@@ -322,6 +323,9 @@ TEST_CASE("blend: weight 1 reproduces, PivotLog is frame invariant, Linear survi
   CHECK_THROWS_AS(blend(two, one, Blend::Log), std::invalid_argument);
   const std::array<double, 2> cancel{1.0, -1.0};
   CHECK_THROWS_AS(blend(two, cancel, Blend::Linear), std::domain_error);
+  const std::array<double, 2> nan{0.5, std::nan("")};
+  for (Blend mode : {Blend::Linear, Blend::Log, Blend::PivotLog})
+    CHECK_THROWS_AS(blend(two, nan, mode), std::domain_error);
 }
 
 TEST_CASE("plane, sphere and line constructors", "[ga][constructors]") {

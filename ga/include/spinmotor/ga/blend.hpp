@@ -13,8 +13,8 @@
 //
 // Inputs: n unit motors and n weights (n ≥ 1; weights are used as given, normally a partition of
 // unity). Output: a unit motor. No heap; meant for per-vertex loops. Throws std::invalid_argument on
-// mismatched or empty spans, std::domain_error when a Linear blend cancels (only possible with
-// negative weights).
+// mismatched or empty spans, std::domain_error on a non-finite weight or motor, on a motor with a zero
+// rotor part, and when a Linear blend cancels (only possible with negative weights).
 #include <cstddef>
 #include <span>
 
@@ -59,7 +59,10 @@ Dll weighted_log_sum(std::span<const Mot> motors, std::span<const double> weight
     const A wl(w[0], w[1], w[2], w[3]);
     for (int j = 0; j < 6; ++j) acc[j] += wl * out[j];
   }
-  return Dll(acc[0].sum(), acc[1].sum(), acc[2].sum(), acc[3].sum(), acc[4].sum(), acc[5].sum());
+  const Dll sum(acc[0].sum(), acc[1].sum(), acc[2].sum(), acc[3].sum(), acc[4].sum(), acc[5].sum());
+  if (!std::isfinite(sum[0] + sum[1] + sum[2] + sum[3] + sum[4] + sum[5]))
+    throw std::domain_error("ga::blend: a weight or a motor is not finite");
+  return sum;
 }
 
 /// The index of the largest weight (the first one on ties), without data-dependent branches.
