@@ -23,6 +23,33 @@ ga::Mot checked_unit_motor(const ga::Mot& m, const std::string& what) {
 
 namespace {
 
+/// The linear (DLB) blend applied to a point without normalizing the motor first: the sum
+/// acc = r + ε d (rotor part r, dual part d, as quaternions) stands for the unit dual quaternion
+/// normalize(acc) (ga::normalize), which moves p to (r p r̄ + 2 vec(d r̄)) / |r|² — the component of d
+/// along r that normalization removes does not reach the vector part (Kavan et al. 2008, §4).
+[[gnu::always_inline]] inline Eigen::Vector3d dlb_point(const ga::Mot& acc, const Eigen::Vector3d& p) {
+  const ga::Quat r = ga::rotor_part(acc), d = ga::dual_part(acc);
+  const double w = r.w(), d0 = d.w();
+  const Eigen::Vector3d v = r.vec(), dv = d.vec();
+  const double n2 = w * w + v.squaredNorm();
+  if (!(n2 > 0.0)) return Eigen::Vector3d::Constant(std::nan(""));  // cancelled blend, reported after the loop
+  const Eigen::Vector3d vp = v.cross(p);
+  // r p r̄ = |r|² p + 2 w (v × p) + 2 v × (v × p);  vec(d r̄) = w dv − d0 v + v × dv.
+  return p + (2.0 / n2) * (w * vp + v.cross(vp) + w * dv - d0 * v + v.cross(dv));
+}
+
+/// Σ_j s_pj w_j R_j, the unnormalized linear blend.
+[[gnu::always_inline]] inline ga::Mot linear_sum(const double* w, Eigen::Index k, int pivot, const ga::Mot* motors,
+                                                 const double* signs) {
+  const double* sp = signs + pivot * k;
+  ga::Mot acc;
+  for (Eigen::Index j = 0; j < k; ++j) {
+    const double s = sp[j] * w[j];
+    for (int c = 0; c < 8; ++c) acc.c[c] += s * motors[j].c[c];
+  }
+  return acc;
+}
+
 /// Per-vertex motor of the field for the prepared controls. Inlined into the vertex loops.
 template <ga::Blend Mode>
 [[gnu::always_inline]] inline ga::Mot field_motor(const double* w, Eigen::Index k, int pivot, const ga::Dll* logs,
@@ -39,12 +66,7 @@ template <ga::Blend Mode>
       for (int c = 0; c < 6; ++c) acc.c[c] += w[j] * lp[j].c[c];
     return ga::exp(acc) * motors[pivot];
   } else {
-    const double* sp = signs + pivot * k;
-    ga::Mot acc;
-    for (Eigen::Index j = 0; j < k; ++j) {
-      const double s = sp[j] * w[j];
-      for (int c = 0; c < 8; ++c) acc.c[c] += s * motors[j].c[c];
-    }
+    const ga::Mot acc = linear_sum(w, k, pivot, motors, signs);
     // ga::normalize without the throw (a cancelled blend is reported after the loop).
     const auto nn = acc * ga::reverse(acc);
     const double alpha = nn.get<ga::blade::s>(), beta = nn.get<ga::blade::e123ni>();
@@ -58,8 +80,50 @@ template <ga::Blend Mode>
   }
 }
 
+/// Four vertices of the linear (DLB) blend at once, i0..i0+3: Σ_j s_pj w_ij R_j in lanes, then
+/// dlb_point's formula lane by lane (component layout of ga/interop.hpp: rotor part
+/// (m0, −m3, −m2, −m1), dual part (−m7, −m4, −m5, −m6)). Writes V_out rows i0..i0+3.
+[[gnu::always_inline]] inline void dlb_block(const double* w, Eigen::Index k, const int* pivot, const ga::Mot* motors,
+                                            const double* signs, const Eigen::MatrixXd& P, Eigen::Index i0,
+                                            Eigen::MatrixXd& V_out) {
+  using A = Eigen::Array<double, 4, 1>;
+  A acc[8];
+  for (auto& a : acc) a.setZero();
+  const int* pv = pivot + i0;
+  for (Eigen::Index j = 0; j < k; ++j) {
+    const double* wj = w + i0 * k + j;
+    const A s(signs[pv[0] * k + j] * wj[0], signs[pv[1] * k + j] * wj[k], signs[pv[2] * k + j] * wj[2 * k],
+              signs[pv[3] * k + j] * wj[3 * k]);
+    for (int c = 0; c < 8; ++c) acc[c] += s * motors[j].c[c];
+  }
+  const A& rw = acc[0];
+  const A vx = -acc[3], vy = -acc[2], vz = -acc[1];
+  const A d0 = -acc[7], dx = -acc[4], dy = -acc[5], dz = -acc[6];
+  const A px = P.col(0).segment<4>(i0).array(), py = P.col(1).segment<4>(i0).array(), pz = P.col(2).segment<4>(i0).array();
+  const A s2 = 2.0 / (rw * rw + vx * vx + vy * vy + vz * vz);  // a cancelled blend gives inf/NaN: reported later
+  const A ax = vy * pz - vz * py, ay = vz * px - vx * pz, az = vx * py - vy * px;  // v × p
+  const A bx = vy * az - vz * ay, by = vz * ax - vx * az, bz = vx * ay - vy * ax;  // v × (v × p)
+  const A cx = vy * dz - vz * dy, cy = vz * dx - vx * dz, cz = vx * dy - vy * dx;  // v × dv
+  V_out.col(0).segment<4>(i0).array() = px + s2 * (rw * ax + bx + rw * dx - d0 * vx + cx);
+  V_out.col(1).segment<4>(i0).array() = py + s2 * (rw * ay + by + rw * dy - d0 * vy + cy);
+  V_out.col(2).segment<4>(i0).array() = pz + s2 * (rw * az + bz + rw * dz - d0 * vz + cz);
+}
+
+/// The Linear pose: blocks of four vertices, the last n mod 4 one by one.
+void run_linear_pose(const MotorBlendField::Weights& W, const Eigen::MatrixXd& P, const Eigen::VectorXi& pivot,
+                     const std::vector<ga::Mot>& motors, const std::vector<double>& signs, Eigen::MatrixXd& V_out) {
+  const Eigen::Index n = P.rows(), k = W.cols(), blocks = n / 4;
+  const double* w = W.data();
+#pragma omp parallel for schedule(static) if (n > kParallelBelow)
+  for (Eigen::Index b = 0; b < blocks; ++b) dlb_block(w, k, pivot.data(), motors.data(), signs.data(), P, 4 * b, V_out);
+  for (Eigen::Index i = 4 * blocks; i < n; ++i)
+    V_out.row(i) = dlb_point(linear_sum(w + i * k, k, pivot[i], motors.data(), signs.data()),
+                             Eigen::Vector3d(P(i, 0), P(i, 1), P(i, 2)))
+                       .transpose();
+}
+
 template <ga::Blend Mode, class Out>
-void run_field(const MotorBlendField::Weights& W, const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>& P,
+void run_field(const MotorBlendField::Weights& W, const Eigen::MatrixXd& P,
                const Eigen::VectorXi& pivot, const std::vector<ga::Dll>& logs, const std::vector<ga::Mot>& motors,
                const std::vector<double>& signs, bool inverse, Out&& out) {
   const Eigen::Index n = P.rows(), k = W.cols();
@@ -70,15 +134,16 @@ void run_field(const MotorBlendField::Weights& W, const Eigen::Matrix<double, Ei
   const double* sg = signs.data();
 #pragma omp parallel for schedule(static) if (n > kParallelBelow)
   for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::Vector3d p(P(i, 0), P(i, 1), P(i, 2));
     ga::Mot m = field_motor<Mode>(w + i * k, k, pv ? pv[i] : 0, lg, mo, sg);
     if (inverse) m = ga::reverse(m);
-    out(i, ga::transform(m, Eigen::Vector3d(P(i, 0), P(i, 1), P(i, 2))));
+    out(i, ga::transform(m, p));
   }
 }
 
 template <class Out>
 void dispatch(ga::Blend mode, const MotorBlendField::Weights& W,
-              const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>& P, const Eigen::VectorXi& pivot,
+              const Eigen::MatrixXd& P, const Eigen::VectorXi& pivot,
               const std::vector<ga::Dll>& logs, const std::vector<ga::Mot>& motors, const std::vector<double>& signs,
               bool inverse, Out&& out) {
   switch (mode) {
@@ -141,7 +206,7 @@ MotorBlendField MotorBlendField::bind(const Eigen::MatrixXd& V_rest, Weights W, 
   f.signs_.resize(mode == ga::Blend::Linear ? k * k : 0);
   if (!rest_motors.empty()) {  // §III.A: bind the rest pose, p'_i = ~M_i^0 p_i M_i^0
     f.prepare(rest_motors);
-    const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> P0 = f.P_;
+    const Eigen::MatrixXd P0 = f.P_;
     auto& P = f.P_;
     dispatch(mode, f.W_, P0, f.pivot_, f.logs_, f.motors_, f.signs_, true,
              [&P](Eigen::Index i, const Eigen::Vector3d& p) { P.row(i) = p; });
@@ -181,12 +246,16 @@ void MotorBlendField::pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_o
   prepare(motors);
   const Eigen::Index n = vertices();
   if (V_out.rows() != n || V_out.cols() != 3) V_out.resize(n, 3);
+  if (mode_ == ga::Blend::Linear) {
+    run_linear_pose(W_, P_, pivot_, motors_, signs_, V_out);
+    check_finite_output(V_out);
+    return;
+  }
   dispatch(mode_, W_, P_, pivot_, logs_, motors_, signs_, false, [&V_out](Eigen::Index i, const Eigen::Vector3d& p) {
     V_out(i, 0) = p.x();
     V_out(i, 1) = p.y();
     V_out(i, 2) = p.z();
   });
-  if (mode_ == ga::Blend::Linear) check_finite_output(V_out);
 }
 
 void MotorBlendField::pose_generators(std::span<const ga::Dll> generators, Eigen::MatrixXd& V_out) {

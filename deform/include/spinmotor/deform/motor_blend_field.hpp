@@ -12,7 +12,8 @@
 // pose: k unit motors -> V_out (n×3). Per frame the k motor logarithms (Log), the k² relative logs
 //   log(R_j ~R_p) (PivotLog) or the k² signs <R_j ~R_p>_0 (Linear) are computed once; the
 //   per-vertex work is then Σ_j w_ij B_j (6k multiply-adds), one motor exponential (or one
-//   normalization) and one point transform, in parallel over vertices, with no allocation.
+//   normalization) and one point transform, in parallel over vertices, with no allocation. The
+//   Linear blend runs four vertices per SIMD lane group (it is otherwise latency-bound).
 //   The result equals ga::blend(R, W.row(i), mode) applied to p'_i, vertex by vertex, to rounding
 //   (vertex_motor() is that reference path; the tests compare the two).
 #include <Eigen/Core>
@@ -53,12 +54,12 @@ public:
   ga::Blend mode() const { return mode_; }
   const Weights& weights() const { return W_; }
   /// The bound points p'_i (n×3): V_rest when the rest motors are identities.
-  const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>& bound_positions() const { return P_; }
+  const Eigen::MatrixXd& bound_positions() const { return P_; }
 
 private:
   void prepare(std::span<const ga::Mot> motors);
 
-  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> P_;
+  Eigen::MatrixXd P_;  // column-major: contiguous lanes for the vectorized loops
   Weights W_;
   Eigen::VectorXi pivot_;        // argmax_j w_ij (first maximum, as ga::blend), PivotLog and Linear
   ga::Blend mode_ = ga::Blend::Log;
