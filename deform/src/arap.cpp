@@ -565,7 +565,10 @@ void ArapDeformer::pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out)
   }
   motors_.resize(k);
   for (std::size_t j = 0; j < k; ++j) motors_[j] = unit_motor(motors[j], j, handle_names_[j]);
+  std::vector<double> energy = std::move(report_.energy);  // keep its capacity: no allocation per pose
+  energy.clear();
   report_ = ArapReport{};
+  report_.energy = std::move(energy);
 
   // Handles placed by their motors; unreferenced vertices stay at rest.
   for (Eigen::Index r = 0; r < constrained_.size(); ++r) {

@@ -194,7 +194,8 @@ private:
   MotorBlendField harmonic_;
   bool has_harmonic_ = false;
 
-  // Per-pose state and scratch (reused across poses: no allocation after the first).
+  // Per-pose state and scratch, reused across poses (after the first pose the only allocations are
+  // those of CholeskySolver::solve, which returns a new matrix, and CHOLMOD's own workspace).
   RowMatrix3 X_;
   std::vector<ga::Rot> rot_;
   std::vector<ga::Mot> motors_;
