@@ -1,4 +1,4 @@
-// `spinmotor spin MESH (--rho-image IMG | --rho-faces FILE | --rho-vertices FILE) --out OUT [--json]`:
+// `spinmotor spin MESH (--rho-image IMG | --rho-faces FILE | --rho-vertices FILE | --rho-expr E) --out OUT [--json]`:
 // the spin transformation of Crane, Pinkall & Schröder 2011 for a painted curvature change ρ.
 #include <nlohmann/json.hpp>
 
@@ -12,6 +12,7 @@
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
 #include "spinmotor/spin/curvature_change.hpp"
+#include "spinmotor/spin/scalar_expression.hpp"
 #include "spinmotor/spin/spin_transform.hpp"
 
 namespace {
@@ -31,7 +32,7 @@ const cli::RegisterCommand reg{
     "spin", "Spin transformation (Crane et al. 2011) of a mesh for a painted curvature change rho",
     [](CLI::App& sub) {
       struct Args {
-        std::string mesh, image, faces, vertices, out;
+        std::string mesh, image, faces, vertices, expr, out;
         double rho_scale = 5.0, tolerance = 1e-10;
         int iterations = 50;
         std::string problem = "standard", scale = "area", ordering = "amd";
@@ -45,8 +46,12 @@ const cli::RegisterCommand reg{
                                  "centred and scaled to max |v| = 1");
       auto* fac = sub.add_option("--rho-faces", a->faces, "Text file with one rho value per face");
       auto* ver = sub.add_option("--rho-vertices", a->vertices, "Text file with one rho value per vertex (averaged to faces)");
-      img->excludes(fac)->excludes(ver);
-      fac->excludes(ver);
+      auto* exp = sub.add_option("--rho-expr", a->expr,
+                                 "rho as an expression of the position (x, y, z, r), e.g. '5*sin(3*x)*cos(2*y)', "
+                                 "evaluated at face barycentres");
+      img->excludes(fac)->excludes(ver)->excludes(exp);
+      fac->excludes(ver)->excludes(exp);
+      ver->excludes(exp);
       sub.add_option("--out", a->out, "Output mesh (texture coordinates are kept)")->required();
       sub.add_flag("--json", a->json, "Print sizes, timings and quality as JSON");
       sub.add_option("--rho-scale", a->rho_scale, "Image mode: rho of a white pixel")->capture_default_str();
@@ -66,8 +71,8 @@ const cli::RegisterCommand reg{
           ->capture_default_str();
       sub.add_flag("--real-form", a->real_form, "Factor the real 4n x 4n matrix instead of the complex 2n x 2n one");
       sub.callback([a] {
-        if (a->image.empty() && a->faces.empty() && a->vertices.empty())
-          throw Error("spin: give one of --rho-image, --rho-faces, --rho-vertices");
+        if (a->image.empty() && a->faces.empty() && a->vertices.empty() && a->expr.empty())
+          throw Error("spin: give one of --rho-image, --rho-faces, --rho-vertices, --rho-expr");
         Mesh mesh = read_mesh(a->mesh);
         SpinTransformOptions o = a->spinxform ? SpinTransformOptions::spinxform() : SpinTransformOptions{};
         if (!a->spinxform) {
@@ -100,6 +105,8 @@ const cli::RegisterCommand reg{
           if (!(radius > 0)) throw Error("spin: all vertices of " + a->mesh + " coincide");
           mesh.V /= radius;
           rho = face_rho_from_image(mesh, read_grayscale_image(a->image), a->rho_scale);
+        } else if (!a->expr.empty()) {
+          rho = face_rho_from_function(mesh.V, mesh.F, parse_scalar_expression(a->expr));
         } else if (!a->faces.empty()) {
           rho = read_scalar_values(a->faces, mesh.F.rows(), "faces");
         } else {
@@ -125,6 +132,7 @@ const cli::RegisterCommand reg{
           j["factor_ms"] = t.factor;
           j["eigen_ms"] = t.eigen;
           j["poisson_ms"] = t.poisson;
+          j["poisson_setup_ms"] = t.poisson_setup;  // overlapped with bind/assembly/factor
           j["total_ms"] = t.bind + t.solve_total();
           j["eigen_iterations"] = r.iterations;
           j["eigen_residual"] = r.residual;

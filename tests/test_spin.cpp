@@ -5,7 +5,10 @@
 #include <Eigen/Dense>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <string>
+#include <vector>
 
 #include "spinmotor/error.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
@@ -15,6 +18,7 @@
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
 #include "spinmotor/mesh/topology.hpp"
 #include "spinmotor/spin/curvature_change.hpp"
+#include "spinmotor/spin/scalar_expression.hpp"
 #include "spinmotor/spin/spin_transform.hpp"
 
 using namespace spinmotor;
@@ -313,4 +317,68 @@ TEST_CASE("bad input gives clear errors", "[spin][errors]") {
     CHECK_THAT(message([&] { spin_transform(d, Eigen::VectorXd::Zero(d.F.rows()), b); }),
                Catch::Contains("not on the boundary"));
   }
+}
+
+TEST_CASE("rho inputs: per vertex, scalar expression, image sampling", "[spin][rho]") {
+  const Mesh m = icosphere(2);
+  // Per vertex → faces: the mean of the corners.
+  Eigen::VectorXd rv(m.V.rows());
+  for (Eigen::Index i = 0; i < rv.size(); ++i) rv[i] = static_cast<double>(i);
+  const Eigen::VectorXd rf = face_rho_from_vertices(m.F, rv);
+  CHECK(rf[7] == Approx((m.F(7, 0) + m.F(7, 1) + m.F(7, 2)) / 3.0));
+  // Expressions: value, precedence (-x^2 = -(x^2), 2^3^2 = 2^9), functions, r.
+  const auto g = parse_scalar_expression("5 * sin(3*x) * cos(2*y) - 0.5*z^2 + r/2");
+  const Eigen::Vector3d p(0.3, -0.2, 0.7);
+  CHECK(g(p) == Approx(5 * std::sin(0.9) * std::cos(-0.4) - 0.5 * 0.49 + p.norm() / 2));
+  CHECK(parse_scalar_expression("-x^2")(p) == Approx(-0.09));
+  CHECK(parse_scalar_expression("2^3^2")(p) == Approx(512.0));
+  CHECK(parse_scalar_expression("sqrt(abs(-4)) + exp(0) + pi - pi + 1e-3")(p) == Approx(3.001));
+  auto message = [](const std::string& text) -> std::string {
+    try {
+      parse_scalar_expression(text);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  CHECK_THAT(message("sin(x"), Catch::Contains("expected ')'"));
+  CHECK_THAT(message("foo(x)"), Catch::Contains("unknown name 'foo'"));
+  CHECK_THAT(message("x +* y"), Catch::Contains("at 4"));
+  const Eigen::VectorXd re = face_rho_from_function(m.V, m.F, g);
+  const Eigen::Vector3d c = (m.V.row(m.F(5, 0)) + m.V.row(m.F(5, 1)) + m.V.row(m.F(5, 2))).transpose() / 3.0;
+  CHECK(re[5] == Approx(g(c)));
+  CHECK_THROWS_AS(face_rho_from_function(m.V, m.F, parse_scalar_expression("log(x - 10)")), Error);
+  // Image sampling: bilinear at (u·w, v·h), no half-pixel offset, clamped; mid grey → ρ = 0.
+  GrayscaleImage img;
+  img.width = 2;
+  img.height = 2;
+  img.pixels.resize(4);
+  img.pixels << 0.f, 255.f, 51.f, 102.f;  // row 0 (bottom): 0, 255; row 1: 51, 102
+  CHECK(img.sample(0.5, 0.0) == Approx(127.5));
+  CHECK(img.sample(0.0, 0.5) == Approx(25.5));
+  CHECK(img.sample(0.5, 0.5) == Approx((0 + 255 + 51 + 102) / 4.0));
+  CHECK(img.sample(-3.0, 7.0) == Approx(51.0));  // clamped to the corner (0, 1)
+  CHECK(img.sample_uv(1.0, 1.0) == Approx(102.0));
+  Mesh t = m;
+  t.UV = Eigen::MatrixXd::Constant(1, 2, 0.25);  // every corner samples (0.5, 0.5)
+  t.FUV = Eigen::MatrixXi::Zero(m.F.rows(), 3);
+  const Eigen::VectorXd ri = face_rho_from_image(t, img, 5.0);
+  CHECK(ri[0] == Approx((2.0 * 102.0 / 255.0 - 1.0) * 5.0));
+  // The reference image's corner pixels, as stored in the TGA file (bottom row first).
+  const GrayscaleImage bumpy = read_grayscale_image(std::string(SPINMOTOR_MESHES_DIR) + "/spinxform/bumpy.tga");
+  CHECK(bumpy.width == 512);
+  CHECK(bumpy.height == 512);
+  std::ifstream raw(std::string(SPINMOTOR_MESHES_DIR) + "/spinxform/bumpy.tga", std::ios::binary);
+  std::vector<char> bytes((std::istreambuf_iterator<char>(raw)), std::istreambuf_iterator<char>());
+  // Uncompressed 8-bit grayscale, no id field, origin bottom-left (+ a 26-byte TGA 2.0 footer).
+  REQUIRE(bytes.size() >= 18 + 512 * 512);
+  int mismatches = 0, flipped = 0;
+  for (int y = 0; y < 512; y += 3)
+    for (int x = 0; x < 512; x += 5) {
+      const unsigned char b = static_cast<unsigned char>(bytes[18 + x + 512 * y]);
+      mismatches += bumpy.at(x, y) != b;
+      flipped += bumpy.at(x, 511 - y) != b;
+    }
+  CHECK(mismatches == 0);
+  CHECK(flipped > 1000);  // the test can tell the two row orders apart
 }

@@ -129,20 +129,23 @@ DiracAssembly::DiracAssembly(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
       for (int c = 0; c < 3; ++c) VF_corner_[fillp[F(f, c)]++] = static_cast<int>(3 * f + c);
   }
 
-  // Vertex ordering on the vertex graph.
+  // Vertex ordering on the vertex graph (full symmetric pattern with the diagonal, CSC; the columns
+  // are short, so each is sorted by insertion).
   {
-    std::vector<int> colptr(n_ + 1, 0), rowind;
-    std::vector<std::vector<int>> adj(n_);
+    std::vector<int> colptr(n_ + 1, 0);
+    for (Eigen::Index e = 0; e < ne; ++e) ++colptr[E_(e, 0) + 1], ++colptr[E_(e, 1) + 1];
+    for (Eigen::Index j = 0; j < n_; ++j) colptr[j + 1] += colptr[j] + 1;  // + the diagonal
+    std::vector<int> rowind(colptr[n_]), fillp(colptr.begin(), colptr.end() - 1);
+    for (Eigen::Index j = 0; j < n_; ++j) rowind[fillp[j]++] = static_cast<int>(j);
     for (Eigen::Index e = 0; e < ne; ++e) {
-      adj[E_(e, 0)].push_back(E_(e, 1));
-      adj[E_(e, 1)].push_back(E_(e, 0));
+      rowind[fillp[E_(e, 0)]++] = E_(e, 1);
+      rowind[fillp[E_(e, 1)]++] = E_(e, 0);
     }
-    rowind.reserve(2 * ne + n_);
     for (Eigen::Index j = 0; j < n_; ++j) {
-      adj[j].push_back(static_cast<int>(j));
-      std::sort(adj[j].begin(), adj[j].end());
-      rowind.insert(rowind.end(), adj[j].begin(), adj[j].end());
-      colptr[j + 1] = static_cast<int>(rowind.size());
+      int* b = rowind.data() + colptr[j];
+      int* en = rowind.data() + colptr[j + 1];
+      for (int* a = b + 1; a < en; ++a)  // short columns: insertion sort
+        for (int* c = a; c > b && c[-1] > c[0]; --c) std::swap(c[-1], c[0]);
     }
     order_ = graph_ordering(n_, colptr, rowind, ordering);
   }
@@ -188,17 +191,14 @@ DiracAssembly::DiracAssembly(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
       nb_edge_[p] = static_cast<int>(e);
       nb_e0_is_row_[p] = r0 == k;
     }
-    for (Eigen::Index j = 0; j < n_; ++j) {
-      const int b = nb_offset_[j], en = nb_offset_[j + 1];
-      std::vector<int> idx(en - b);
-      std::iota(idx.begin(), idx.end(), b);
-      std::sort(idx.begin(), idx.end(), [&](int x, int y) { return nb_vertex_[x] < nb_vertex_[y]; });
-      std::vector<int> v(idx.size()), ed(idx.size()), o(idx.size());
-      for (std::size_t t = 0; t < idx.size(); ++t)
-        v[t] = nb_vertex_[idx[t]], ed[t] = nb_edge_[idx[t]], o[t] = nb_e0_is_row_[idx[t]];
-      for (std::size_t t = 0; t < idx.size(); ++t)
-        nb_vertex_[b + t] = v[t], nb_edge_[b + t] = ed[t], nb_e0_is_row_[b + t] = o[t];
-    }
+    // Sort each vertex's neighbours by new index (a handful each: insertion sort, no allocation).
+    for (Eigen::Index j = 0; j < n_; ++j)
+      for (int a = nb_offset_[j] + 1; a < nb_offset_[j + 1]; ++a)
+        for (int c = a; c > nb_offset_[j] && nb_vertex_[c - 1] > nb_vertex_[c]; --c) {
+          std::swap(nb_vertex_[c - 1], nb_vertex_[c]);
+          std::swap(nb_edge_[c - 1], nb_edge_[c]);
+          std::swap(nb_e0_is_row_[c - 1], nb_e0_is_row_[c]);
+        }
   }
 
   // The lower-triangular pattern.

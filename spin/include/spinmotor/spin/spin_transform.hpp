@@ -32,8 +32,11 @@
 // outgoing boundary edge, surface on the left) to T̃_i under v ↦ W̄ v W. Other boundary vertices are free.
 //
 // Reconstruction (§5.6): ẽ_ij of eq. 8 on every edge, then L f̃ = ∇·ẽ with the cotangent Laplacian
-// L (mesh/cotangent_laplacian.hpp) and the LAST vertex pinned (as the reference code), then
-// normalisation (SpinScale).
+// L (mesh/cotangent_laplacian.hpp) and one vertex pinned, then normalisation (SpinScale). The
+// reference code pins the last vertex; any pinned vertex gives the same solution up to a translation,
+// which the normalisation removes, so the last vertex of the fill-reducing order is pinned. L and its
+// CHOLMOD factor do not depend on ρ: they are prepared on a second thread during bind, overlapping
+// the eigen matrix's analysis and (in a one-shot run) its factorization.
 #include <Eigen/Core>
 #include <memory>
 
@@ -90,11 +93,13 @@ struct SpinTransformOptions {
 
 /// Timings in milliseconds (wall clock).
 struct SpinTimings {
-  double bind = 0;      ///< constructor: validation, geometry, ordering, symbolic analysis, Poisson factor
+  double bind = 0;      ///< constructor: validation, geometry, ordering, symbolic analysis
+  double poisson_setup = 0;  ///< cotangent Laplacian + its factor, on the bind's second thread (overlapped)
   double assembly = 0;  ///< A*A (and B*A) for this ρ
   double factor = 0;    ///< numeric Cholesky factorization
   double eigen = 0;     ///< inverse iterations
-  double poisson = 0;   ///< transformed edges, divergence, solve, normalisation
+  double poisson = 0;   ///< waiting for poisson_setup (first solve only), transformed edges, divergence,
+                        ///< solve, normalisation
   double solve_total() const { return assembly + factor + eigen + poisson; }
 };
 
