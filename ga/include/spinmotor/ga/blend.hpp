@@ -5,6 +5,7 @@
 //   Blend::PivotLog  exp(Σ w_i log(M_i ~M_p)) M_p, p = argmax w_i: invariant to M_i -> A M_i B
 //   Blend::Linear    normalize(Σ w_i s_i M_i), s_i = sign <M_p ~M_i>_0: dual-quaternion linear blending
 //                    (DLB, Kavan et al.) written for motors
+//   blend_logs       exp(Σ w_i B_i) from logs computed once (many vertices, few shared motors)
 //
 // Log depends on the frame and on where the logs' cut locus lies: two motors that both rotate by
 // nearly 180° about ±n (nearly the same motion) have logs ±(π/2) n, which average to no rotation.
@@ -72,20 +73,37 @@ inline std::size_t pivot(std::span<const double> weights) {
   return p;
 }
 
-/// DLB for motors: normalize(Σ w_i s_i M_i) with s_i the sign of <M_p ~M_i>_0.
+/// DLB for motors: normalize(Σ w_i s_i M_i) with s_i the sign of <M_p ~M_i>_0 (the quaternion dot
+/// product of the rotor parts), accumulated as two 4-lane halves (rotor part, translation part).
 inline Mot linear_blend(std::span<const Mot> motors, std::span<const double> weights, std::size_t p) {
-  Mot acc;
-  const Mot& mp = motors[p];
+  using A = Lanes<4>;
+  const A rotor_p = Eigen::Map<const A>(motors[p].data());
+  A lo = A::Zero(), hi = A::Zero();
   for (std::size_t i = 0; i < motors.size(); ++i) {
-    const Mot& mi = motors[i];
-    // the sign of <M_p ~M_i>_0, the quaternion dot product of the rotor parts
-    const double d = mp[0] * mi[0] + mp[1] * mi[1] + mp[2] * mi[2] + mp[3] * mi[3];
-    acc += (std::copysign(1.0, d) * weights[i]) * mi;  // (copysign: random signs defeat branches)
+    const Eigen::Map<const A> mlo(motors[i].data()), mhi(motors[i].data() + 4);
+    const double w = std::copysign(1.0, (rotor_p * mlo).sum()) * weights[i];  // no branch on random signs
+    lo += w * mlo;
+    hi += w * mhi;
   }
+  Mot acc;
+  Eigen::Map<A>(acc.data()) = lo;
+  Eigen::Map<A>(acc.data() + 4) = hi;
   return normalize(acc);
 }
 
 }  // namespace detail
+
+/// exp(Σ w_i B_i) for generators B_i = log(M_i) computed once: the per-vertex part of Blend::Log when
+/// many vertices blend the same few motors (handles). Throws like blend().
+inline Mot blend_logs(std::span<const Dll> logs, std::span<const double> weights) {
+  if (logs.empty() || weights.size() != logs.size())
+    throw std::invalid_argument("ga::blend_logs: needs as many weights as generators, and at least one");
+  Dll acc;
+  for (std::size_t i = 0; i < logs.size(); ++i) acc += weights[i] * logs[i];
+  if (!std::isfinite(acc[0] + acc[1] + acc[2] + acc[3] + acc[4] + acc[5]))
+    throw std::domain_error("ga::blend_logs: a weight or a generator is not finite");
+  return exp(acc);
+}
 
 inline Mot blend(std::span<const Mot> motors, std::span<const double> weights, Blend mode) {
   const std::size_t n = motors.size();

@@ -130,11 +130,11 @@ SPINMOTOR_GA_INLINE T atan_ratio(const T& t) {
 }
 
 /// The generators (Dll order) of motors given by their 8 components (Mot order) with scalar part
-/// m[0] ≥ 0. Invariant to a positive scale of the motor. Throws std::domain_error when a rotor part is
-/// zero or not finite. With ρ = |rotor part|, b = |β|, the half-angle tangents
-///   t1 = tan(φ/2) = b / (ρ + s) ∈ [0, 1],   t2 = tan(φ/4) = t1 / (1 + sqrt(1 + t1²)) ∈ [0, tan(π/8)]
-/// bring φ = 4 atan(t2) into the range of fdlibm's polynomial atan(t) = t (1 - S(t²)), and
-///   r = φ / b = 4 (1 - S) / ((ρ + s)(1 + sqrt(1 + t1²))) = 1 / (ρ sinc φ)
+/// s = m[0] ≥ 0. Invariant to a positive scale of the motor. Throws std::domain_error when a rotor part
+/// is zero or not finite. With ρ = |rotor part|, b = |β| and P = ρ + s ≥ ρ > 0, the half-angle tangents
+///   tan(φ/2) = b / P,   t = tan(φ/4) = b / (P + sqrt(P² + b²)) ∈ [0, tan(π/8)]
+/// put φ = 4 atan(t) in the range of fdlibm's polynomial atan(t) = t (1 - S(t²)), and
+///   r = φ / b = 4 (1 - S) / (P + sqrt(P² + b²)) = 1 / (ρ sinc φ)
 /// needs no division by b (nor any branch): ω = r β, v·ω = r q, v = r u - g (v·ω) ω with
 /// g = ρ r c2(φ) = (s r - 1) / φ².
 template <class T>
@@ -143,13 +143,11 @@ SPINMOTOR_GA_INLINE void log_kernel(const T (&m)[8], T (&out)[6]) {
   const T rho2 = m[0] * m[0] + b2;
   if (!positive_finite(rho2))
     throw std::domain_error("ga::log: the motor's rotor part is zero or not finite");
-  const T b = lane_sqrt(b2);
-  const T d1 = 1.0 / (lane_sqrt(rho2) + m[0]);  // 1 / (ρ + s), ρ + s ≥ ρ > 0
-  const T t1 = b * d1;
-  const T d2 = 1.0 / (1.0 + lane_sqrt(1.0 + t1 * t1));
-  const T t2 = t1 * d2;
-  const T r = 4.0 * atan_ratio(t2) * (d1 * d2);  // φ / b
-  const T phi = r * b;
+  const T p = lane_sqrt(rho2) + m[0];
+  const T d = 1.0 / (p + lane_sqrt(p * p + b2));
+  const T t = lane_sqrt(b2) * d;        // tan(φ/4)
+  const T r = 4.0 * atan_ratio(t) * d;  // φ / b
+  const T phi = r * lane_sqrt(b2);
   const T g = (m[0] * r - 1.0) / (phi * phi + 1e-300);  // the guard only turns 0/0 into 0 at φ = 0
   out[0] = r * m[1];                                    // ω_z
   out[1] = r * m[2];                                    // ω_y
