@@ -14,10 +14,10 @@
 //                    iterations, real 4n×4n matrix ordered by CHOLMOD's AMD on the full matrix,
 //                    supernodal — the baseline every speedup counter refers to
 //   ours_spinxform   the same iterations and result with our solver: complex 2n×2n Hermitian form,
-//                    AMD on the vertex graph
+//                    METIS on the vertex graph
 //   ours             the default: eq. 7, Krylov-accelerated inverse iteration to residual 1e-10
 //   study rows       what each choice gives (bumpy and capsule; larger meshes with SPINMOTOR_BENCH_FULL=1):
-//                    real_vertex_amd (real form, vertex ordering), metis (vertex METIS),
+//                    real_vertex (real form, vertex ordering), amd (vertex AMD instead of METIS),
 //                    simplicial (CHOLMOD simplicial), plain_iteration (no Rayleigh–Ritz),
 //                    one_thread (OpenMP off for our loops and Eigen)
 // Counters: bind_ms, assembly_ms, factor_ms, eigen_ms, poisson_ms, total_ms (= bind + solve, the wall
@@ -155,8 +155,8 @@ int main(int argc, char** argv) {
       {"ours", [] { return SpinTransformOptions{}; }},
   };
   const std::vector<Config> study_rows = {
-      {"real_vertex_amd", [] { SpinTransformOptions o; o.complex_form = false; return o; }},
-      {"metis", [] { SpinTransformOptions o; o.ordering = VertexOrdering::METIS; return o; }},
+      {"real_vertex", [] { SpinTransformOptions o; o.complex_form = false; return o; }},
+      {"amd", [] { SpinTransformOptions o; o.ordering = VertexOrdering::AMD; return o; }},
       {"simplicial", [] { SpinTransformOptions o; o.supernodal = false; return o; }},
       {"plain_iteration", [] { SpinTransformOptions o; o.krylov = false; o.iterations = 500; return o; }},
       {"one_thread", [] { return SpinTransformOptions{}; }, true},

@@ -35,7 +35,7 @@ const cli::RegisterCommand reg{
         std::string mesh, image, faces, vertices, expr, out;
         double rho_scale = 5.0, tolerance = 1e-10;
         int iterations = 50;
-        std::string problem = "standard", scale = "area", ordering = "amd";
+        std::string problem = "standard", scale = "area", ordering = "metis";
         bool json = false, spinxform = false, real_form = false;
       };
       auto a = std::make_shared<Args>();
@@ -83,9 +83,9 @@ const cli::RegisterCommand reg{
           o.iterations = a->iterations;
           o.scale = a->scale == "unit" ? SpinScale::UnitMaxNorm : a->scale == "none" ? SpinScale::None : SpinScale::KeepArea;
         }
-        o.ordering = a->ordering == "metis" ? VertexOrdering::METIS
+        o.ordering = a->ordering == "amd"       ? VertexOrdering::AMD
                      : a->ordering == "natural" ? VertexOrdering::Natural
-                                                : VertexOrdering::AMD;
+                                                : VertexOrdering::METIS;
         o.complex_form = !a->real_form;
 
         // Image mode works on the mesh centred and scaled to max |v| = 1 (rho has units 1/length and
