@@ -6,7 +6,8 @@
 //   MeanValue  (default) Floater's mean-value Laplacian (mean_value_laplacian.hpp): positive weights on
 //              any triangulation, so the discrete maximum principle holds (every free λ_i is a convex
 //              combination of its neighbours); L is not symmetric: the free block is factorized by
-//              SuperLU (LUSolver). (The paper states w_ij = w_ji; mean-value weights are not symmetric.)
+//              SuperLU (LUSolver, minimum degree on Aᵀ + A: the pattern is symmetric). (The paper
+//              states w_ij = w_ji; mean-value weights are not symmetric.)
 //   Cotangent  the cotangent Laplacian (cotangent_laplacian.hpp): symmetric positive definite free
 //              block, CHOLMOD (CholeskySolver); the maximum principle needs non-obtuse (Delaunay)
 //              triangles.
