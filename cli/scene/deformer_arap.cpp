@@ -1,8 +1,9 @@
 // Scene deformer "arap": ArapDeformer (CGA paper §VII; Sorkine & Alexa 2007), handles are hard constraints
 // moved rigidly by their motors.
 //   {"type": "arap", "energy": "spokes" | "spokes-and-rims", "iterations": n, "tolerance": t,
-//    "initial": "rest" | "harmonic"}
-// Defaults: spokes-and-rims, 100 iterations, tolerance 1e-6 (relative energy change), rest.
+//    "initial": "rest" | "harmonic" | "previous", "clamp_negative_weights": bool}
+// Defaults: spokes-and-rims, 100 iterations, tolerance 1e-6 (relative energy change), rest, no clamping.
+// "previous" starts each frame of an animation from the previous frame's result (rest on the first).
 // Metrics JSON gains "arap": the energy of every iteration (E_0 = initial guess, non-increasing), the
 // iterations, whether the tolerance was reached, and the time split; bind adds "arap_bind".
 #include "spinmotor/deform/arap.hpp"
@@ -79,6 +80,7 @@ std::unique_ptr<SceneDeformer> bind_arap(const Scene& s) {
   o.energy = b.value("energy", "spokes-and-rims") == "spokes" ? ArapEnergy::Spokes : ArapEnergy::SpokesAndRims;
   o.iterations = b.value("iterations", o.iterations);
   o.tolerance = b.value("tolerance", o.tolerance);
+  o.clamp_negative_weights = b.value("clamp_negative_weights", o.clamp_negative_weights);
   const std::string initial = b.value("initial", "rest");
   o.initial = initial == "harmonic" ? ArapInitial::Harmonic
               : initial == "previous" ? ArapInitial::Previous
