@@ -1,4 +1,5 @@
 #include "spinmotor/mesh/cholesky_solver.hpp"
+#include "spinmotor/mesh/blas_threads.hpp"
 
 #include <cholmod.h>
 
@@ -27,6 +28,7 @@ struct CholeskySolver::Impl {
   bool factorized = false;
 
   explicit Impl(const Options& o) : options(o) {
+    use_single_threaded_blas();
     cholmod_start(&common);
     common.print = 0;  // failures are reported by our exceptions, not on stderr
     common.error_handler = nullptr;

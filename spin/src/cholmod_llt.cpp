@@ -1,5 +1,7 @@
 #include "cholmod_llt.hpp"
 
+#include "spinmotor/mesh/blas_threads.hpp"
+
 #include <cholmod.h>
 
 #include <limits>
@@ -21,6 +23,7 @@ struct CholmodLLT<Scalar>::Impl {
   bool factorized = false;
 
   Impl(Ordering o, bool supernodal) {
+    use_single_threaded_blas();
     cholmod_start(&c);
     c.print = 0;
     c.error_handler = nullptr;
