@@ -1,0 +1,121 @@
+#pragma once
+// SkinDeformer: skinning of a rigged mesh — a skeleton of bones, per-vertex bone weights (at most 4
+// per vertex kept), and a blend of the bones' motions. Follows the bind/pose contract of deformer.hpp;
+// the controls are the bones.
+//
+// Skeleton: bones with a parent (−1 for a root; no cycles), a rest segment head → tail (used for the
+//   harmonic weights and by the scene's pose inheritance) and a rest frame motor (default identity).
+//   pose() takes the posed world frames F_j; bone j moves the rest mesh by K_j = F_j ~F_j^0 (so with
+//   identity rest frames, F_j is directly the world-space motion of the bone, and identities give the
+//   rest mesh).
+// Weights (n×B, row i = the weights of vertex i): given (dense, sparse or read_skin_weights()), or
+//   computed by bone_harmonic_weights(). bind keeps the 4 largest non-zero weights of each row (ties: the
+//   lower bone index first) and renormalizes them to sum 1.
+// Blends of the ≤ 4 motions K_j of a vertex, weights w_j (slot 0 holds the largest weight: the pivot):
+//   LBS       p' = (Σ w_j T_j) p with T_j the 3×4 matrix of K_j (linear blend skinning; collapses under
+//             twist, the "candy wrapper").
+//   Linear    DLB (Kavan et al. 2008): normalize(Σ s_j w_j K_j), s_j = sign <K_j ~K_pivot>_0.
+//   Log       exp(Σ w_j log K_j) (CGA paper eq. 1).
+//   PivotLog  exp(Σ w_j log(K_j ~K_pivot)) K_pivot.
+// pose(): per frame B matrices (LBS), B logs (Log), B² signs (Linear) or B² relative logs (PivotLog);
+//   then per vertex 4 weighted terms, one normalization / exponential and one point transform, parallel
+//   over vertices, no allocation.
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <array>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "spinmotor/deform/deformer.hpp"
+#include "spinmotor/deform/harmonic_field.hpp"
+#include "spinmotor/ga.hpp"
+#include "spinmotor/mesh/mesh.hpp"
+
+namespace spinmotor {
+
+struct Bone {
+  std::string name;
+  int parent = -1;                  ///< index of the parent bone, −1 for a root
+  Eigen::Vector3d head{0, 0, 0};    ///< rest segment (bone_harmonic_weights)
+  Eigen::Vector3d tail{0, 0, 1};
+  ga::Mot rest{1, 0, 0, 0, 0, 0, 0, 0};  ///< rest frame F_j^0 (unit motor)
+};
+
+/// Throws Error naming the bone for an empty or repeated name, a parent out of range or equal to
+/// itself, a cycle of parents, head == tail, or a rest frame that is not a finite unit motor.
+void check_skeleton(std::span<const Bone> bones);
+
+/// The world motions of all bones from those given: given[j] is used when has[j], otherwise bone j
+/// keeps its parent's motion (a root with no entry: identity). Sizes B. Throws for a bad skeleton.
+std::vector<ga::Mot> inherit_bone_motions(std::span<const Bone> bones, std::span<const ga::Mot> given,
+                                          const std::vector<bool>& has);
+
+/// Bone weights as surface harmonic coordinates of bone regions: vertex i belongs to the region of
+/// its nearest bone segment j, unless its closest point on that segment lies within joint_fraction ×
+/// the bone's length of a joint shared with another bone (the band around a joint is left free).
+/// Output: n×B harmonic_coordinates(V, F, regions, weights) (a partition of unity, ≥ 0 for
+/// mean-value weights). Throws Error naming a bone whose region is empty, and as harmonic_coordinates.
+Eigen::MatrixXd bone_harmonic_weights(const Mesh& mesh, std::span<const Bone> bones, double joint_fraction = 0.25,
+                                      HarmonicWeights weights = HarmonicWeights::MeanValue);
+
+/// Skin weight text file (UTF-8, one record per line; '#' starts a comment; blank lines skipped):
+///   bones <name_1> <name_2> ... <name_B>     first record: the bone names, in the file's column order
+///   <w_1> <w_2> ... <w_B>                   then one line per vertex, in vertex order: B weights ≥ 0,
+///                                           not all zero (normalized by the deformer)
+/// Output: n×B weights with columns in the order of `bones` (the skeleton's order; the file must name
+/// each skeleton bone exactly once). Throws Error "path:line: ..." for a missing or unknown bone name, a
+/// repeated name, a wrong number of values on a line, a value that is not a number, negative or not
+/// finite, an all-zero row, and "path: ..." for a file that cannot be read or has a vertex count ≠ n.
+Eigen::MatrixXd read_skin_weights(const std::filesystem::path& path, std::span<const Bone> bones, Eigen::Index n);
+
+class SkinDeformer {
+public:
+  enum class Blend { LBS, Linear, Log, PivotLog };
+
+  struct Options {
+    Blend blend = Blend::Linear;
+  };
+
+  SkinDeformer() = default;
+
+  /// Inputs: rest mesh (V read), skeleton (check_skeleton), weights n×B (finite, ≥ 0, every row with a
+  /// positive entry). Throws Error naming the bad vertex or bone.
+  static SkinDeformer bind(const Mesh& rest, std::span<const Bone> bones, const Eigen::MatrixXd& weights,
+                           const Options& options);
+  static SkinDeformer bind(const Mesh& rest, std::span<const Bone> bones,
+                           const Eigen::SparseMatrix<double>& weights, const Options& options);
+
+  /// B posed world frames F_j (unit motors), in bone order. Output: V_out (n×3).
+  void pose(std::span<const ga::Mot> frames, Eigen::MatrixXd& V_out);
+
+  Eigen::Index vertices() const { return P_.rows(); }
+  Eigen::Index bones() const { return static_cast<Eigen::Index>(bones_.size()); }
+  /// The kept weights as an n×B sparse matrix (≤ 4 per row, rows sum to 1).
+  Eigen::SparseMatrix<double> weights() const;
+  /// The motor of vertex i for the given frames (Linear / Log / PivotLog: ga::blend reference path).
+  ga::Mot vertex_motor(Eigen::Index i, std::span<const ga::Mot> frames) const;
+  const Options& options() const { return options_; }
+
+private:
+  struct Influence {
+    std::array<int, 4> bone{0, 0, 0, 0};
+    std::array<double, 4> w{0, 0, 0, 0};  // descending; unused slots 0
+  };
+  static SkinDeformer bind_rows(const Mesh& rest, std::span<const Bone> bones,
+                                std::vector<std::vector<std::pair<int, double>>> rows, const Options& options);
+  void prepare(std::span<const ga::Mot> frames);
+
+  Options options_;
+  std::vector<Bone> bones_;
+  Eigen::MatrixXd P_;
+  std::vector<Influence> inf_;
+  // per-pose scratch
+  std::vector<ga::Mot> motions_;                         // K_j
+  std::vector<Eigen::Matrix<double, 3, 4>> matrices_;   // LBS
+  std::vector<ga::Dll> logs_;                            // Log: B; PivotLog: B²
+  std::vector<double> signs_;                            // Linear: B²
+};
+
+}  // namespace spinmotor

@@ -1,0 +1,352 @@
+#include "spinmotor/deform/skinning.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "spinmotor/deform/motor_blend_field.hpp"
+#include "spinmotor/error.hpp"
+
+namespace spinmotor {
+
+namespace {
+
+const ga::Mot kIdentity(1, 0, 0, 0, 0, 0, 0, 0);
+
+/// Distance from p to the segment a–b and the parameter t ∈ [0, 1] of the closest point.
+double segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double& t) {
+  const Eigen::Vector3d d = b - a;
+  t = std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+  return (p - a - t * d).norm();
+}
+
+/// The unnormalized linear blend acc = r + ε d applied to p as the unit motor normalize(acc)
+/// (Kavan et al. 2008 §4: the part of d along r that normalization removes does not reach the point).
+[[gnu::always_inline]] inline Eigen::Vector3d dlb_point(const double* m, const Eigen::Vector3d& p) {
+  const double w = m[0], vx = -m[3], vy = -m[2], vz = -m[1];
+  const double d0 = -m[7], dx = -m[4], dy = -m[5], dz = -m[6];
+  const double s2 = 2.0 / (w * w + vx * vx + vy * vy + vz * vz);
+  const double ax = vy * p.z() - vz * p.y(), ay = vz * p.x() - vx * p.z(), az = vx * p.y() - vy * p.x();
+  const double bx = vy * az - vz * ay, by = vz * ax - vx * az, bz = vx * ay - vy * ax;
+  const double cx = vy * dz - vz * dy, cy = vz * dx - vx * dz, cz = vx * dy - vy * dx;
+  return {p.x() + s2 * (w * ax + bx + w * dx - d0 * vx + cx), p.y() + s2 * (w * ay + by + w * dy - d0 * vy + cy),
+          p.z() + s2 * (w * az + bz + w * dz - d0 * vz + cz)};
+}
+
+}  // namespace
+
+void check_skeleton(std::span<const Bone> bones) {
+  const int B = static_cast<int>(bones.size());
+  if (B == 0) throw Error("skeleton: no bones");
+  std::map<std::string, int> names;
+  for (int j = 0; j < B; ++j) {
+    const Bone& b = bones[j];
+    const std::string who = "skeleton: bone " + std::to_string(j) + " '" + b.name + "'";
+    if (b.name.empty()) throw Error("skeleton: bone " + std::to_string(j) + " has an empty name");
+    if (!names.emplace(b.name, j).second)
+      throw Error(who + " has the same name as bone " + std::to_string(names[b.name]));
+    if (b.parent < -1 || b.parent >= B || b.parent == j)
+      throw Error(who + " has parent " + std::to_string(b.parent) + " (must be −1 or another bone's index)");
+    if (!b.head.allFinite() || !b.tail.allFinite() || (b.tail - b.head).norm() == 0.0)
+      throw Error(who + ": head and tail must be finite and distinct");
+    checked_unit_motor(b.rest, who + ": rest frame");
+  }
+  for (int j = 0; j < B; ++j) {  // a chain of parents longer than B has a cycle
+    int p = j;
+    for (int steps = 0; p >= 0; ++steps, p = bones[p].parent)
+      if (steps > B) throw Error("skeleton: bone '" + bones[j].name + "' is on a cycle of parents");
+  }
+}
+
+std::vector<ga::Mot> inherit_bone_motions(std::span<const Bone> bones, std::span<const ga::Mot> given,
+                                          const std::vector<bool>& has) {
+  check_skeleton(bones);
+  const std::size_t B = bones.size();
+  if (given.size() != B || has.size() != B) throw Error("inherit_bone_motions: sizes differ from the bone count");
+  std::vector<ga::Mot> out(B);
+  for (std::size_t j = 0; j < B; ++j) {
+    int p = static_cast<int>(j);
+    while (p >= 0 && !has[p]) p = bones[p].parent;  // nearest ancestor (or itself) with an entry
+    out[j] = p >= 0 ? given[p] : kIdentity;
+  }
+  return out;
+}
+
+Eigen::MatrixXd bone_harmonic_weights(const Mesh& mesh, std::span<const Bone> bones, double joint_fraction,
+                                      HarmonicWeights weights) {
+  check_skeleton(bones);
+  if (!(joint_fraction >= 0.0 && joint_fraction < 0.5))
+    throw Error("bone_harmonic_weights: joint_fraction must be in [0, 0.5)");
+  const int B = static_cast<int>(bones.size());
+  std::vector<bool> has_child(B, false);
+  for (const Bone& b : bones)
+    if (b.parent >= 0) has_child[b.parent] = true;
+  std::vector<std::vector<int>> region(B);
+  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) {
+    const Eigen::Vector3d p = mesh.V.row(i).transpose();
+    int best = 0;
+    double dbest = INFINITY, tbest = 0.0;
+    for (int j = 0; j < B; ++j) {
+      double t;
+      const double d = segment_distance(p, bones[j].head, bones[j].tail, t);
+      if (d < dbest) dbest = d, best = j, tbest = t;
+    }
+    const bool near_head = bones[best].parent >= 0 && tbest < joint_fraction;
+    const bool near_tail = has_child[best] && tbest > 1.0 - joint_fraction;
+    if (!near_head && !near_tail) region[best].push_back(static_cast<int>(i));
+  }
+  std::vector<Handle> handles(B);
+  for (int j = 0; j < B; ++j) {
+    if (region[j].empty())
+      throw Error("bone_harmonic_weights: bone '" + bones[j].name + "' is the nearest bone of no vertex away from its joints");
+    handles[j] = {"bone '" + bones[j].name + "'", Eigen::Map<Eigen::VectorXi>(region[j].data(), region[j].size())};
+  }
+  return harmonic_coordinates(mesh.V, mesh.F, handles, weights);
+}
+
+Eigen::MatrixXd read_skin_weights(const std::filesystem::path& path, std::span<const Bone> bones, Eigen::Index n) {
+  std::ifstream in(path);
+  if (!in) throw Error(path.string() + ": cannot open the skin weight file");
+  const int B = static_cast<int>(bones.size());
+  std::map<std::string, int> skeleton;
+  for (int j = 0; j < B; ++j) skeleton[bones[j].name] = j;
+  std::vector<int> column;  // file column -> skeleton bone
+  Eigen::MatrixXd W(n, B);
+  Eigen::Index row = 0;
+  std::string line;
+  std::size_t lineno = 0;
+  auto fail = [&](const std::string& msg) { throw Error(path.string() + ":" + std::to_string(lineno) + ": " + msg); };
+  while (std::getline(in, line)) {
+    ++lineno;
+    if (const auto h = line.find('#'); h != std::string::npos) line.resize(h);
+    std::istringstream s(line);
+    std::string tok;
+    std::vector<std::string> toks;
+    while (s >> tok) toks.push_back(tok);
+    if (toks.empty()) continue;
+    if (column.empty()) {
+      if (toks[0] != "bones") fail("expected the header 'bones <name> ...' first");
+      std::vector<bool> seen(B, false);
+      for (std::size_t c = 1; c < toks.size(); ++c) {
+        const auto it = skeleton.find(toks[c]);
+        if (it == skeleton.end()) fail("bone '" + toks[c] + "' is not in the skeleton");
+        if (seen[it->second]) fail("bone '" + toks[c] + "' is named twice");
+        seen[it->second] = true;
+        column.push_back(it->second);
+      }
+      for (int j = 0; j < B; ++j)
+        if (!seen[j]) fail("the header does not name skeleton bone '" + bones[j].name + "'");
+      continue;
+    }
+    if (row >= n) fail("more vertex lines than the mesh's " + std::to_string(n) + " vertices");
+    if (static_cast<int>(toks.size()) != B)
+      fail(std::to_string(toks.size()) + " values for " + std::to_string(B) + " bones (vertex " + std::to_string(row) + ")");
+    double sum = 0.0;
+    for (int c = 0; c < B; ++c) {
+      double v;
+      std::size_t used = 0;
+      try {
+        v = std::stod(toks[c], &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != toks[c].size()) fail("'" + toks[c] + "' is not a number (vertex " + std::to_string(row) + ")");
+      if (!std::isfinite(v) || v < 0.0)
+        fail("weight " + toks[c] + " of vertex " + std::to_string(row) + " must be finite and ≥ 0");
+      W(row, column[c]) = v;
+      sum += v;
+    }
+    if (!(sum > 0.0)) fail("vertex " + std::to_string(row) + " has no positive weight");
+    ++row;
+  }
+  if (column.empty()) throw Error(path.string() + ": no 'bones' header (empty file?)");
+  if (row != n)
+    throw Error(path.string() + ": " + std::to_string(row) + " vertex lines for a mesh of " + std::to_string(n) +
+                " vertices");
+  return W;
+}
+
+SkinDeformer SkinDeformer::bind(const Mesh& rest, std::span<const Bone> bones, const Eigen::MatrixXd& W,
+                                const Options& options) {
+  std::vector<std::vector<std::pair<int, double>>> rows(W.rows());
+  for (Eigen::Index i = 0; i < W.rows(); ++i)
+    for (Eigen::Index j = 0; j < W.cols(); ++j)
+      if (W(i, j) != 0.0) rows[i].emplace_back(static_cast<int>(j), W(i, j));
+  if (W.cols() != static_cast<Eigen::Index>(bones.size()))
+    throw Error("SkinDeformer: " + std::to_string(W.cols()) + " weight columns for " + std::to_string(bones.size()) +
+                " bones");
+  if (W.rows() != rest.V.rows())
+    throw Error("SkinDeformer: " + std::to_string(W.rows()) + " weight rows for " + std::to_string(rest.V.rows()) +
+                " vertices");
+  return bind_rows(rest, bones, std::move(rows), options);
+}
+
+SkinDeformer SkinDeformer::bind(const Mesh& rest, std::span<const Bone> bones, const Eigen::SparseMatrix<double>& W,
+                                const Options& options) {
+  if (W.cols() != static_cast<Eigen::Index>(bones.size()) || W.rows() != rest.V.rows())
+    throw Error("SkinDeformer: weights are " + std::to_string(W.rows()) + "×" + std::to_string(W.cols()) + " for " +
+                std::to_string(rest.V.rows()) + " vertices and " + std::to_string(bones.size()) + " bones");
+  std::vector<std::vector<std::pair<int, double>>> rows(W.rows());
+  for (Eigen::Index j = 0; j < W.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(W, j); it; ++it)
+      if (it.value() != 0.0) rows[it.row()].emplace_back(static_cast<int>(it.col()), it.value());
+  for (auto& r : rows) std::sort(r.begin(), r.end());
+  return bind_rows(rest, bones, std::move(rows), options);
+}
+
+SkinDeformer SkinDeformer::bind_rows(const Mesh& rest, std::span<const Bone> bones,
+                                     std::vector<std::vector<std::pair<int, double>>> rows, const Options& options) {
+  check_skeleton(bones);
+  const Eigen::Index n = rest.V.rows();
+  SkinDeformer d;
+  d.options_ = options;
+  d.bones_.assign(bones.begin(), bones.end());
+  d.P_ = rest.V;
+  d.inf_.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (!rest.V.row(i).allFinite()) throw Error("SkinDeformer: vertex " + std::to_string(i) + " is not finite");
+    auto& r = rows[i];
+    for (const auto& [j, w] : r)
+      if (!std::isfinite(w) || w < 0.0)
+        throw Error("SkinDeformer: weight of vertex " + std::to_string(i) + " for bone '" + bones[j].name +
+                    "' is negative or not finite");
+    // the 4 largest, ties to the lower bone index (the pivot is then ga::blend's first maximum)
+    std::stable_sort(r.begin(), r.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+    if (r.size() > 4) r.resize(4);
+    double sum = 0.0;
+    for (const auto& e : r) sum += e.second;
+    if (!(sum > 0.0)) throw Error("SkinDeformer: vertex " + std::to_string(i) + " has no positive bone weight");
+    for (std::size_t s = 0; s < r.size(); ++s) {
+      d.inf_[i].bone[s] = r[s].first;
+      d.inf_[i].w[s] = r[s].second / sum;
+    }
+    for (std::size_t s = r.size(); s < 4; ++s) d.inf_[i].bone[s] = r[0].first;  // weight 0, a valid bone
+  }
+  const std::size_t B = bones.size();
+  d.motions_.resize(B);
+  d.matrices_.resize(B);
+  d.logs_.resize(options.blend == Blend::PivotLog ? B * B : B);
+  d.signs_.resize(options.blend == Blend::Linear ? B * B : 0);
+  return d;
+}
+
+void SkinDeformer::prepare(std::span<const ga::Mot> frames) {
+  const std::size_t B = bones_.size();
+  if (frames.size() != B)
+    throw Error("SkinDeformer: " + std::to_string(frames.size()) + " bone frames for " + std::to_string(B) + " bones");
+  for (std::size_t j = 0; j < B; ++j)
+    motions_[j] = ga::normalize(checked_unit_motor(frames[j], "frame of bone '" + bones_[j].name + "'") *
+                                ga::reverse(bones_[j].rest));  // K_j = F_j ~F_j^0
+  switch (options_.blend) {
+    case Blend::LBS:
+      for (std::size_t j = 0; j < B; ++j) matrices_[j] = ga::to_isometry(motions_[j]).matrix().topRows<3>();
+      break;
+    case Blend::Log:
+      for (std::size_t j = 0; j < B; ++j) logs_[j] = ga::log(motions_[j]);
+      break;
+    case Blend::PivotLog:
+      for (std::size_t p = 0; p < B; ++p) {
+        const ga::Mot inv = ga::reverse(motions_[p]);
+        for (std::size_t j = 0; j < B; ++j) logs_[p * B + j] = j == p ? ga::Dll{} : ga::log(motions_[j] * inv);
+      }
+      break;
+    case Blend::Linear:
+      for (std::size_t p = 0; p < B; ++p) {
+        const ga::Mot rp = ga::reverse(motions_[p]);
+        for (std::size_t j = 0; j < B; ++j) signs_[p * B + j] = std::signbit(ga::scalar(motions_[j], rp)) ? -1.0 : 1.0;
+      }
+      break;
+  }
+}
+
+void SkinDeformer::pose(std::span<const ga::Mot> frames, Eigen::MatrixXd& V_out) {
+  prepare(frames);
+  const Eigen::Index n = vertices(), B = bones();
+  if (V_out.rows() != n || V_out.cols() != 3) V_out.resize(n, 3);
+  const Influence* inf = inf_.data();
+  const Eigen::MatrixXd& P = P_;
+  switch (options_.blend) {
+    case Blend::LBS: {
+      const Eigen::Matrix<double, 3, 4>* T = matrices_.data();
+#pragma omp parallel for schedule(static) if (n > kParallelBelow)
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const Influence& f = inf[i];
+        const Eigen::Matrix<double, 3, 4> M =
+            f.w[0] * T[f.bone[0]] + f.w[1] * T[f.bone[1]] + f.w[2] * T[f.bone[2]] + f.w[3] * T[f.bone[3]];
+        const Eigen::Vector3d q = M.leftCols<3>() * Eigen::Vector3d(P(i, 0), P(i, 1), P(i, 2)) + M.col(3);
+        V_out(i, 0) = q.x(), V_out(i, 1) = q.y(), V_out(i, 2) = q.z();
+      }
+      break;
+    }
+    case Blend::Linear: {
+      const ga::Mot* K = motions_.data();
+      const double* S = signs_.data();
+      bool cancelled = false;
+#pragma omp parallel for schedule(static) if (n > kParallelBelow) reduction(|| : cancelled)
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const Influence& f = inf[i];
+        const double* sp = S + static_cast<Eigen::Index>(f.bone[0]) * B;
+        double acc[8];
+        for (int c = 0; c < 8; ++c) acc[c] = f.w[0] * K[f.bone[0]][c];
+        for (int s = 1; s < 4; ++s) {
+          const double w = sp[f.bone[s]] * f.w[s];
+          for (int c = 0; c < 8; ++c) acc[c] += w * K[f.bone[s]][c];
+        }
+        const Eigen::Vector3d q = dlb_point(acc, Eigen::Vector3d(P(i, 0), P(i, 1), P(i, 2)));
+        cancelled = cancelled || !q.allFinite();
+        V_out(i, 0) = q.x(), V_out(i, 1) = q.y(), V_out(i, 2) = q.z();
+      }
+      if (cancelled) throw numerical_error("SkinDeformer: the linear blend of the bone motors cancels at a vertex");
+      break;
+    }
+    case Blend::Log:
+    case Blend::PivotLog: {
+      const bool pivot = options_.blend == Blend::PivotLog;
+      const ga::Dll* L = logs_.data();
+      const ga::Mot* K = motions_.data();
+#pragma omp parallel for schedule(static) if (n > kParallelBelow)
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const Influence& f = inf[i];
+        const ga::Dll* l = pivot ? L + static_cast<Eigen::Index>(f.bone[0]) * B : L;
+        ga::Dll acc;
+        for (int s = 0; s < 4; ++s)
+          for (int c = 0; c < 6; ++c) acc.c[c] += f.w[s] * l[f.bone[s]].c[c];
+        ga::Mot m = ga::exp(acc);  // eq. (1)
+        if (pivot) m = m * K[f.bone[0]];
+        const Eigen::Vector3d q = ga::transform(m, Eigen::Vector3d(P(i, 0), P(i, 1), P(i, 2)));
+        V_out(i, 0) = q.x(), V_out(i, 1) = q.y(), V_out(i, 2) = q.z();
+      }
+      break;
+    }
+  }
+}
+
+Eigen::SparseMatrix<double> SkinDeformer::weights() const {
+  std::vector<Eigen::Triplet<double>> t;
+  for (Eigen::Index i = 0; i < vertices(); ++i)
+    for (int s = 0; s < 4; ++s)
+      if (inf_[i].w[s] != 0.0) t.emplace_back(i, inf_[i].bone[s], inf_[i].w[s]);
+  Eigen::SparseMatrix<double> W(vertices(), bones());
+  W.setFromTriplets(t.begin(), t.end());
+  return W;
+}
+
+ga::Mot SkinDeformer::vertex_motor(Eigen::Index i, std::span<const ga::Mot> frames) const {
+  if (i < 0 || i >= vertices()) throw Error("SkinDeformer::vertex_motor: vertex " + std::to_string(i) + " out of range");
+  if (frames.size() != bones_.size()) throw Error("SkinDeformer::vertex_motor: wrong frame count");
+  std::vector<ga::Mot> m;
+  std::vector<double> w;
+  for (int s = 0; s < 4; ++s)
+    if (inf_[i].w[s] != 0.0) {
+      m.push_back(ga::normalize(frames[inf_[i].bone[s]] * ga::reverse(bones_[inf_[i].bone[s]].rest)));
+      w.push_back(inf_[i].w[s]);
+    }
+  const ga::Blend mode = options_.blend == Blend::Log        ? ga::Blend::Log
+                         : options_.blend == Blend::PivotLog ? ga::Blend::PivotLog
+                                                             : ga::Blend::Linear;
+  return ga::blend(m, w, mode);
+}
+
+}  // namespace spinmotor
