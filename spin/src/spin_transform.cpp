@@ -316,6 +316,49 @@ struct SpinTransform::Impl {
     poisson_factor_ms = ms_since(t0);
   }
 
+  // Eq. 8 edges of lambda, Poisson solve with the stored factor (poisson_ready already awaited),
+  // normalisation by opt.scale.
+  Eigen::MatrixXd reconstruct(const Eigen::MatrixXd& lambda) const {
+    const SpinTransformOptions& o = opt;
+    const Eigen::Index n = V.rows();
+    const Eigen::MatrixXd et = transformed_edges(V, E, lambda);
+    Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n, 3);  // in the assembly's vertex order
+    const Eigen::VectorXi& order = as->order();
+    Eigen::VectorXi rank(n);
+    for (Eigen::Index k = 0; k < n; ++k) rank[order[k]] = static_cast<int>(k);
+    for (Eigen::Index e = 0; e < E.rows(); ++e) {
+      const Eigen::RowVector3d we = w[e] * et.row(e);
+      b.row(rank[E(e, 0)]) -= we;
+      b.row(rank[E(e, 1)]) += we;
+    }
+    Eigen::MatrixXd Vn = Eigen::MatrixXd::Zero(n, 3);
+    if (n > 1) {
+      const Eigen::MatrixXd x = poisson.solve(b.topRows(n - 1));
+      for (Eigen::Index k = 0; k < n - 1; ++k) Vn.row(order[k]) = x.row(k);
+    }
+    // Normalisation.
+    const Eigen::RowVector3d mean = Vn.colwise().mean();
+    Vn.rowwise() -= mean;
+    switch (o.scale) {
+      case SpinScale::UnitMaxNorm: {
+        const double r = Vn.rowwise().norm().maxCoeff();
+        if (!(r > 0)) throw numerical_error("spin_transform: the reconstructed mesh collapsed to a point");
+        Vn /= r;
+        break;
+      }
+      case SpinScale::KeepArea: {
+        const double a = face_areas(Vn, F).sum();
+        if (!(a > 0)) throw numerical_error("spin_transform: the reconstructed mesh has zero area");
+        Vn *= std::sqrt(area0 / a);
+        Vn.rowwise() += mean0;
+        break;
+      }
+      case SpinScale::None: Vn.rowwise() += mean0; break;
+    }
+    if (!Vn.allFinite()) throw numerical_error("spin_transform: the reconstructed positions are not finite");
+    return Vn;
+  }
+
   explicit Impl(const SpinTransformOptions& o)
       : opt(o),
         chol({.ordering = CholeskySolver::Ordering::Natural, .supernodal = o.supernodal}),
@@ -439,7 +482,11 @@ double SpinTransform::factor_nonzeros() const {
   return impl_->complex ? impl_->cchol.factor_nonzeros() : impl_->chol.factor_nonzeros();
 }
 
-SpinTransformResult SpinTransform::solve(const Eigen::VectorXd& rho) {
+SpinTransformResult SpinTransform::solve(const Eigen::VectorXd& rho) { return solve_impl(rho, true); }
+
+SpinTransformResult SpinTransform::solve_similarity(const Eigen::VectorXd& rho) { return solve_impl(rho, false); }
+
+SpinTransformResult SpinTransform::solve_impl(const Eigen::VectorXd& rho, bool reconstruct_positions) {
   Impl& s = *impl_;
   const SpinTransformOptions& o = s.opt;
   const Eigen::Index n = s.V.rows(), m = s.F.rows();
@@ -548,48 +595,36 @@ SpinTransformResult SpinTransform::solve(const Eigen::VectorXd& rho) {
   if (!res.lambda.allFinite()) throw numerical_error("spin_transform: the eigenvector is not finite");
   res.timings.eigen = ms_since(t);
 
+  if (!reconstruct_positions) return res;
   // Reconstruction (§5.6): L f̃ = ∇·ẽ with one vertex pinned.
   t = Clock::now();
   if (s.poisson_ready.valid()) s.poisson_ready.get();  // the bind's second thread (rethrows its error)
   res.timings.poisson_setup = s.poisson_factor_ms;
-  const Eigen::MatrixXd et = transformed_edges(s.V, s.E, res.lambda);
-  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n, 3);  // in the assembly's vertex order
-  const Eigen::VectorXi& order = s.as->order();
-  Eigen::VectorXi rank(n);
-  for (Eigen::Index k = 0; k < n; ++k) rank[order[k]] = static_cast<int>(k);
-  for (Eigen::Index e = 0; e < s.E.rows(); ++e) {
-    const Eigen::RowVector3d we = s.w[e] * et.row(e);
-    b.row(rank[s.E(e, 0)]) -= we;
-    b.row(rank[s.E(e, 1)]) += we;
-  }
-  Eigen::MatrixXd Vn = Eigen::MatrixXd::Zero(n, 3);
-  if (n > 1) {
-    const Eigen::MatrixXd x = s.poisson.solve(b.topRows(n - 1));
-    for (Eigen::Index k = 0; k < n - 1; ++k) Vn.row(order[k]) = x.row(k);
-  }
-  // Normalisation.
-  const Eigen::RowVector3d mean = Vn.colwise().mean();
-  Vn.rowwise() -= mean;
-  switch (o.scale) {
-    case SpinScale::UnitMaxNorm: {
-      const double r = Vn.rowwise().norm().maxCoeff();
-      if (!(r > 0)) throw numerical_error("spin_transform: the reconstructed mesh collapsed to a point");
-      Vn /= r;
-      break;
-    }
-    case SpinScale::KeepArea: {
-      const double a = face_areas(Vn, s.F).sum();
-      if (!(a > 0)) throw numerical_error("spin_transform: the reconstructed mesh has zero area");
-      Vn *= std::sqrt(s.area0 / a);
-      Vn.rowwise() += s.mean0;
-      break;
-    }
-    case SpinScale::None: Vn.rowwise() += s.mean0; break;
-  }
-  if (!Vn.allFinite()) throw numerical_error("spin_transform: the reconstructed positions are not finite");
-  res.V = std::move(Vn);
+  res.V = s.reconstruct(res.lambda);
   res.timings.poisson = ms_since(t);
   return res;
+}
+
+Eigen::MatrixXd SpinTransform::reconstruct(const Eigen::MatrixXd& lambda, double* ms) {
+  Impl& s = *impl_;
+  const Eigen::Index n = s.V.rows();
+  if (lambda.rows() != n || lambda.cols() != 4) {
+    std::ostringstream msg;
+    msg << "spin_transform: reconstruct needs an n x 4 similarity field (n = " << n << "), got " << lambda.rows()
+        << " x " << lambda.cols();
+    throw Error(msg.str());
+  }
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (!lambda.row(i).allFinite()) {
+      std::ostringstream msg;
+      msg << "spin_transform: similarity of vertex " << i << " is not finite";
+      throw Error(msg.str());
+    }
+  const auto t = Clock::now();
+  if (s.poisson_ready.valid()) s.poisson_ready.get();
+  Eigen::MatrixXd V = s.reconstruct(lambda);
+  if (ms) *ms = ms_since(t);
+  return V;
 }
 
 SpinTransformResult spin_transform(const Mesh& mesh, const Eigen::VectorXd& rho, const SpinTransformOptions& options) {

@@ -132,6 +132,18 @@ public:
   /// a bad ρ, numerical_error if a factorization fails or the result is not finite.
   SpinTransformResult solve(const Eigen::VectorXd& rho);
 
+  /// solve(ρ) without the reconstruction: λ, eigenvalue, iterations, residual and the assembly /
+  /// factor / eigen timings; V is left empty and timings.poisson is 0. For callers that change λ
+  /// before integrating it (the conformal snap's tradeoff, conformal_snap.hpp).
+  SpinTransformResult solve_similarity(const Eigen::VectorXd& rho);
+
+  /// The reconstruction of solve() alone (§5.6) for ANY similarity field: eq. 8 edges of `lambda`
+  /// (n×4, real part first, finite), the Poisson solve with the bound Laplacian factor (no
+  /// refactorization), then the normalisation options().scale (with SpinScale::None the scale and
+  /// orientation carried by λ are kept). Output: n×3 positions; `ms` (optional) receives the wall
+  /// time. Throws Error on a wrong size or a non-finite row (naming the vertex).
+  Eigen::MatrixXd reconstruct(const Eigen::MatrixXd& lambda, double* ms = nullptr);
+
   const SpinTransformOptions& options() const;
   double bind_ms() const;
   Eigen::Index num_unknowns() const;
@@ -139,6 +151,7 @@ public:
   double factor_nonzeros() const;
 
 private:
+  SpinTransformResult solve_impl(const Eigen::VectorXd& rho, bool reconstruct_positions);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
