@@ -4,13 +4,12 @@
 // ρ = −H (the minimal surface of a disk or annulus, Fig. 16 top). The output is written once, at the
 // end, atomically: on any error (exit 2 bad input, 3 numerical failure) no output file is left.
 // Progress lines (stderr) start once a run has taken more than a second, unless --quiet.
-#include <nlohmann/json.hpp>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "command.hpp"
@@ -52,8 +51,8 @@ void run(const FlowArgs& a) {
   o.progress = [&](const WillmoreFlowProgress& p) {
     const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
     if (progress && elapsed > 1.0)
-      std::fprintf(stderr, "flow: step %d/%d  W %.6g  (%.0f ms, elapsed %.1f s)\n", p.step, p.steps, p.willmore,
-                   p.step_ms, elapsed);
+      std::fprintf(stderr, "flow: step %d/%d  W %.6g  (%.0f ms, elapsed %.1f s)\n", p.step, p.steps,
+                   p.willmore, p.step_ms, elapsed);
   };
   const WillmoreFlowResult r = willmore_flow(mesh, o);
   const QuasiConformalSummary q = quasi_conformal_summary(mesh.V, mesh.F, r.V);
@@ -78,8 +77,9 @@ void run(const FlowArgs& a) {
   } else if (!a.quiet) {
     std::printf("flow: %lld vertices, %lld faces, %s\n", static_cast<long long>(mesh.V.rows()),
                 static_cast<long long>(mesh.F.rows()),
-                a.minimal ? "minimal surface (rho = -H)" : ("Willmore, tau " + num(o.tau) + ", " +
-                                                           std::to_string(o.steps) + " steps").c_str());
+                a.minimal
+                    ? "minimal surface (rho = -H)"
+                    : ("Willmore, tau " + num(o.tau) + ", " + std::to_string(o.steps) + " steps").c_str());
     std::printf("  Willmore energy %.6g -> %.6g (ratio %.4g; ideal %.4g)\n", r.willmore[0], r.willmore[N],
                 r.willmore[0] > 0 ? r.willmore[N] / r.willmore[0] : 0.0,
                 std::pow(1 - o.tau, 2.0 * static_cast<double>(o.steps)));
@@ -93,13 +93,16 @@ const cli::RegisterCommand reg{
     "flow", "Conformal Willmore flow (rho = -tau H per step) or the minimal surface in one step (rho = -H)",
     [](CLI::App& sub) {
       auto a = std::make_shared<FlowArgs>();
-      sub.add_option("MESH", a->mesh, "Input mesh (OBJ, OFF, PLY, STL); connected oriented manifold, normally a disk")
+      sub.add_option("MESH", a->mesh,
+                     "Input mesh (OBJ, OFF, PLY, STL); connected oriented manifold, normally a disk")
           ->required();
       auto* w = sub.add_option("--willmore", a->tau,
                                "Step tau in (0, 1]: each step removes the fraction tau of the mean curvature "
                                "half-density (W drops by (1 - tau)^2 per step)");
-      sub.add_option("--steps", a->steps, "Number of steps (each rebinds on the current surface)")->capture_default_str();
-      auto* m = sub.add_flag("--minimal", a->minimal, "One step with rho = -H: the minimal surface (disk or annulus)");
+      sub.add_option("--steps", a->steps, "Number of steps (each rebinds on the current surface)")
+          ->capture_default_str();
+      auto* m = sub.add_flag("--minimal", a->minimal,
+                             "One step with rho = -H: the minimal surface (disk or annulus)");
       w->excludes(m);
       sub.add_option("--out", a->out, "Output mesh (texture coordinates are kept)")->required();
       sub.add_flag("--json", a->json, "Print the energies, timings and Q as JSON");

@@ -67,8 +67,8 @@ fs::path write_bump(const fs::path& dir) {
 TEST_CASE("flow --willmore lowers the energy at every step; --minimal removes it", "[cli][flow]") {
   TempDir tmp;
   const fs::path in = write_bump(tmp.path);
-  const Run r = run_cli(tmp.path, "flow '" + in.string() + "' --willmore 0.3 --steps 3 --out " + tmp.file("w.obj") +
-                                      " --json");
+  const Run r = run_cli(
+      tmp.path, "flow '" + in.string() + "' --willmore 0.3 --steps 3 --out " + tmp.file("w.obj") + " --json");
   INFO(r.err);
   REQUIRE(r.code == 0);
   const nlohmann::json j = nlohmann::json::parse(r.out);
@@ -83,7 +83,8 @@ TEST_CASE("flow --willmore lowers the energy at every step; --minimal removes it
   CHECK(out.V.rows() == 31 * 31);
   CHECK(out.has_uv());  // texture coordinates kept
 
-  const Run m = run_cli(tmp.path, "flow '" + in.string() + "' --minimal --out " + tmp.file("m.obj") + " --json");
+  const Run m =
+      run_cli(tmp.path, "flow '" + in.string() + "' --minimal --out " + tmp.file("m.obj") + " --json");
   INFO(m.err);
   REQUIRE(m.code == 0);
   const nlohmann::json jm = nlohmann::json::parse(m.out);

@@ -2,7 +2,6 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/SparseCore>
-
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -77,7 +76,8 @@ WillmoreFlowResult willmore_flow(const Mesh& mesh, const WillmoreFlowOptions& op
   };
   if (!std::isfinite(options.tau))
     throw Error("willmore_flow: step tau = " + std::to_string(options.tau) + " is not finite");
-  if (options.steps < 1) throw Error("willmore_flow: steps = " + std::to_string(options.steps) + " must be >= 1");
+  if (options.steps < 1)
+    throw Error("willmore_flow: steps = " + std::to_string(options.steps) + " must be >= 1");
   const auto start = Clock::now();
   WillmoreFlowResult res;
   res.willmore.resize(options.steps + 1);
@@ -87,7 +87,8 @@ WillmoreFlowResult willmore_flow(const Mesh& mesh, const WillmoreFlowOptions& op
   if (options.keep_positions) res.positions.push_back(cur.V);
   for (int s = 1; s <= options.steps; ++s) {
     const auto t0 = Clock::now();
-    const std::string where = "willmore_flow: step " + std::to_string(s) + " of " + std::to_string(options.steps);
+    const std::string where =
+        "willmore_flow: step " + std::to_string(s) + " of " + std::to_string(options.steps);
     try {
       cur.V = willmore_flow_step(cur, options.tau, options.spin).V;
     } catch (const Error& e) {

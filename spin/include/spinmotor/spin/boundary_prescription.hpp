@@ -5,7 +5,6 @@
 // As in the paper, the target tangent of a boundary vertex is the unit outgoing boundary edge of the
 // target curve (boundary_tangents below), the same convention SpinTransform uses for the source.
 #include <Eigen/Core>
-
 #include <sstream>
 #include <vector>
 
@@ -35,14 +34,15 @@ inline SpinBoundaryTangents boundary_tangents(const Eigen::MatrixXd& V, const Ei
       const int i = loop[j], next = loop[(j + 1) % loop.size()];
       if (i < 0 || i >= V.rows() || next < 0 || next >= V.rows()) {
         std::ostringstream m;
-        m << "boundary_tangents: boundary vertex " << (i < 0 || i >= V.rows() ? i : next) << " is outside [0, "
-          << V.rows() << ")";
+        m << "boundary_tangents: boundary vertex " << (i < 0 || i >= V.rows() ? i : next)
+          << " is outside [0, " << V.rows() << ")";
         throw Error(m.str());
       }
       const Eigen::RowVector3d e = V.row(next) - V.row(i);
       if (!e.allFinite() || !(e.norm() > 0)) {
         std::ostringstream m;
-        m << "boundary_tangents: boundary edge from vertex " << i << " to " << next << " has zero length or is not finite";
+        m << "boundary_tangents: boundary edge from vertex " << i << " to " << next
+          << " has zero length or is not finite";
         throw Error(m.str());
       }
       bt.vertices[r] = i;
