@@ -97,17 +97,23 @@ const spinmotor::cli::RegisterCommand reg{
     [](CLI::App& sub) {
       struct Args {
         std::string mesh;
-        bool json = false;
+        bool json = false, quiet = false;
       };
       auto args = std::make_shared<Args>();
       sub.add_option("MESH", args->mesh, "Mesh file (OBJ, OFF, PLY, STL)")->required();
       sub.add_flag("--json", args->json, "Print one JSON object instead of a table");
+      sub.add_flag("-q,--quiet", args->quiet, "Print nothing but errors: the exit code says whether the mesh has defects");
+      sub.footer(
+          "Examples:\n"
+          "  spinmotor check ../shared/meshes/spot.obj\n"
+          "  spinmotor check scan.ply --json > report.json\n"
+          "  for f in *.obj; do spinmotor check -q \"$f\" || echo \"$f\"; done   # list the meshes with defects");
       sub.callback([args] {
         const spinmotor::Mesh mesh = spinmotor::read_mesh(args->mesh);  // throws Error (exit 2) if unreadable
         const MeshReport r = spinmotor::validate(mesh);
         if (args->json)
           std::cout << to_json(args->mesh, r).dump(2) << std::endl;
-        else {
+        else if (!args->quiet) {
           print_table(args->mesh, r);
           std::fflush(stdout);
         }

@@ -77,6 +77,11 @@ const spinmotor::cli::RegisterCommand reg{
       sub.add_flag("--json", a->json, "Print the metrics as JSON on stdout (an array for animations)");
       sub.add_flag("--quiet,-q", a->quiet, "Print nothing but warnings and errors");
       sub.add_flag("--schema", a->schema, "Print the scene JSON Schema and exit");
+      sub.footer(
+          "Examples:\n"
+          "  spinmotor deform tests/data/scenes/ik_tube.json          # IK-driven spline deformation\n"
+          "  spinmotor deform pose.json --out-dir results --json     # outputs under results/, metrics on stdout\n"
+          "  spinmotor deform --schema > scene.schema.json           # the scene format (JSON Schema)");
       sub.callback([a] { run(*a); });
     }};
 

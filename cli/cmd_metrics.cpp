@@ -67,7 +67,7 @@ const spinmotor::cli::RegisterCommand reg{
     [](CLI::App& sub) {
       struct Args {
         std::string rest, deformed, align = "none";
-        bool json = false, no_willmore = false;
+        bool json = false, no_willmore = false, quiet = false;
       };
       auto args = std::make_shared<Args>();
       sub.add_option("REST", args->rest, "Rest mesh (OBJ, OFF, PLY, STL)")->required();
@@ -77,6 +77,11 @@ const spinmotor::cli::RegisterCommand reg{
           ->check(CLI::IsMember({"none", "translation", "rigid", "similarity"}))
           ->capture_default_str();
       sub.add_flag("--no-willmore", args->no_willmore, "Skip the Willmore energies");
+      sub.add_flag("-q,--quiet", args->quiet, "Print nothing unless --json (checks the inputs only)");
+      sub.footer(
+          "Examples:\n"
+          "  spinmotor metrics rest.obj posed.obj\n"
+          "  spinmotor metrics rest.obj snapped.obj --align similarity --json");
       sub.callback([args] {
         const spinmotor::Mesh rest = spinmotor::read_mesh(args->rest);
         const spinmotor::Mesh def = spinmotor::read_mesh(args->deformed);
@@ -87,7 +92,7 @@ const spinmotor::cli::RegisterCommand reg{
         const spinmotor::DeformationMetrics m = spinmotor::compute_metrics(rest, def.V, options);
         if (args->json)
           std::cout << spinmotor::to_json(m).dump(2) << '\n';
-        else
+        else if (!args->quiet)
           print_table(m);
       });
     }};

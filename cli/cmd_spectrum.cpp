@@ -22,10 +22,15 @@ const cli::RegisterCommand reg{
       struct Args {
         std::string mesh, op = "crane";
         int k = 20;
-        bool json = false;
+        bool json = false, quiet = false;
       };
       auto a = std::make_shared<Args>();
       sub.add_option("MESH", a->mesh, "Closed, connected, oriented manifold mesh")->required();
+      sub.add_flag("-q,--quiet", a->quiet, "Print nothing unless --json");
+      sub.footer(
+          "Examples:\n"
+          "  spinmotor spectrum sphere.obj -k 28   # unit sphere: 0 (x4), +1 (x8), -2 (x4), +2 (x12)\n"
+          "  spinmotor spectrum spot.obj --json");
       sub.add_option("--operator", a->op, "crane: the vertex-based extrinsic Dirac operator of Crane et al. 2011")
           ->check(CLI::IsMember({"crane"}))
           ->capture_default_str();
@@ -46,7 +51,7 @@ const cli::RegisterCommand reg{
           j["iterations"] = s.iterations;
           j["operations"] = s.operations;
           std::cout << j.dump(2) << '\n';
-        } else {
+        } else if (!a->quiet) {
           std::printf("%d constant solutions removed (gamma = 0); %d eigenvalues nearest 0:\n", s.constant_kernel,
                       static_cast<int>(s.eigenvalues.size()));
           for (Eigen::Index i = 0; i < s.eigenvalues.size(); ++i) std::printf("%.10g\n", s.eigenvalues[i]);

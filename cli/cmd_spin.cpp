@@ -36,7 +36,7 @@ const cli::RegisterCommand reg{
         double rho_scale = 5.0, tolerance = 1e-10;
         int iterations = 50;
         std::string problem = "standard", scale = "area", ordering = "metis";
-        bool json = false, spinxform = false, real_form = false;
+        bool json = false, spinxform = false, real_form = false, quiet = false;
       };
       auto a = std::make_shared<Args>();
       sub.add_option("MESH", a->mesh, "Input mesh (OBJ, OFF, PLY, STL); connected oriented manifold")->required();
@@ -54,6 +54,12 @@ const cli::RegisterCommand reg{
       ver->excludes(exp);
       sub.add_option("--out", a->out, "Output mesh (texture coordinates are kept)")->required();
       sub.add_flag("--json", a->json, "Print sizes, timings and quality as JSON");
+      sub.add_flag("-q,--quiet", a->quiet, "Print nothing unless --json");
+      sub.footer(
+          "Examples:\n"
+          "  spinmotor spin ../shared/meshes/spinxform/sphere.obj --rho-image ../shared/meshes/spinxform/bumpy.tga --out bumpy.obj\n"
+          "  spinmotor spin capsule.obj --rho-expr \"0.5*exp(-20*(z-1)^2)\" --out bulge.obj --json\n"
+          "  spinmotor spin sphere.obj --rho-faces rho.txt --out out.obj --spinxform   # the reference code's settings");
       sub.add_option("--rho-scale", a->rho_scale, "Image mode: rho of a white pixel")->capture_default_str();
       sub.add_flag("--spinxform", a->spinxform,
                    "Reference-code settings: unweighted problem, exactly 3 inverse iterations, output centred "
@@ -140,7 +146,7 @@ const cli::RegisterCommand reg{
           j["q_mean"] = q.q_mean;
           j["q_max"] = q.q_max;
           std::cout << j.dump(2) << '\n';
-        } else {
+        } else if (!a->quiet) {
           std::printf("spin: %lld vertices, %lld faces, %s problem\n", static_cast<long long>(mesh.V.rows()),
                       static_cast<long long>(mesh.F.rows()), problem_name(o.problem));
           std::printf("  eigenvalue %.10g after %d inverse iterations (residual %.3g)\n", r.eigenvalue, r.iterations,

@@ -1,0 +1,83 @@
+// The CLI's shared surface: every subcommand has --help with examples, --version, -q/--quiet where a
+// command reports, and exit code 2 for usage errors (unknown option, missing argument).
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+Run run_cli(const std::string& args) {
+  const fs::path base = fs::temp_directory_path() / ("spinmotor_test_cli_help_" + std::to_string(::getpid()));
+  fs::create_directories(base);
+  const fs::path out = base / "out.txt", err = base / "err.txt";
+  const std::string cmd = "'" + std::string(SPINMOTOR_CLI) + "' " + args + " > '" + out.string() + "' 2> '" +
+                          err.string() + "'";
+  const int status = std::system(cmd.c_str());
+  Run r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(out);
+  r.err = slurp(err);
+  fs::remove_all(base);
+  return r;
+}
+
+const fs::path kData = SPINMOTOR_TEST_DATA_DIR;
+
+}  // namespace
+
+TEST_CASE("every subcommand's --help shows examples", "[cli]") {
+  for (const char* cmd : {"check", "deform", "demo", "metrics", "spectrum", "spin"}) {
+    const Run r = run_cli(std::string(cmd) + " --help");
+    CAPTURE(cmd, r.out);
+    CHECK(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("Example"));
+    CHECK_THAT(r.out, Catch::Contains(std::string("spinmotor ") + cmd));
+  }
+}
+
+TEST_CASE("--version, and usage errors exit 2", "[cli]") {
+  const Run v = run_cli("--version");
+  CHECK(v.code == 0);
+  CHECK_THAT(v.out, Catch::StartsWith("spinmotor "));
+  CHECK(run_cli("").code == 2);                         // a subcommand is required
+  CHECK(run_cli("no-such-command").code == 2);
+  CHECK(run_cli("check --no-such-option x.obj").code == 2);
+  CHECK(run_cli("metrics only_one.obj").code == 2);    // missing argument
+}
+
+TEST_CASE("-q prints nothing; the exit code still reports", "[cli]") {
+  const std::string good = (kData / "tetrahedron.obj").string();
+  const std::string bad = (kData / "bad" / "nonmanifold_edge.obj").string();
+  REQUIRE(fs::exists(good));
+  const Run ok = run_cli("check -q '" + good + "'");
+  CHECK(ok.code == 0);
+  CHECK(ok.out.empty());
+  const Run defect = run_cli("check -q '" + bad + "'");
+  CHECK(defect.code == 2);
+  CHECK(defect.out.empty());
+  CHECK_THAT(defect.err, Catch::Contains("non-manifold"));  // errors are never silenced
+  const Run m = run_cli("metrics -q '" + good + "' '" + good + "'");
+  CHECK(m.code == 0);
+  CHECK(m.out.empty());
+}
