@@ -208,6 +208,15 @@ TEST_CASE("Willmore flow rejects bad input", "[willmore][errors]") {
   } catch (const Error& e) {
     CHECK(e.kind() == Error::Kind::BadInput);
   }
+  // ρ = −1e300·H overflows the eigen matrix (ρ² terms): a numerical failure, not a NaN result.
+  o.tau = 1e300;
+  try {
+    willmore_flow(g, o);
+    FAIL("no error");
+  } catch (const Error& e) {
+    INFO(e.what());
+    CHECK(e.kind() == Error::Kind::Numerical);
+  }
   CHECK_THROWS_AS(boundary_tangents(icosphere(1).V, icosphere(1).F), Error);
   CHECK_THROWS_AS(prescribe_boundary(g, SpinBoundaryTangents{}), Error);
 }
