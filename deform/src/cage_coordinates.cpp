@@ -1,0 +1,330 @@
+#include "spinmotor/deform/cage_coordinates.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <Eigen/SparseCore>
+
+#include "spinmotor/deform/deformer.hpp"
+#include "spinmotor/error.hpp"
+#include "spinmotor/mesh/cholesky_solver.hpp"
+
+namespace spinmotor {
+
+namespace {
+
+using Eigen::Index;
+using Eigen::Vector3d;
+
+/// Closest point of triangle abc to p as barycentric coordinates (Ericson, Real-Time Collision
+/// Detection §5.1.5); returns the squared distance.
+double closest_on_triangle(const Vector3d& p, const Vector3d& a, const Vector3d& b, const Vector3d& c, Vector3d& bary) {
+  const Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) {
+    bary = {1, 0, 0};
+  } else {
+    const Vector3d bp = p - b;
+    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+    const Vector3d cp = p - c;
+    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+    const double vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
+    if (d3 >= 0 && d4 <= d3) {
+      bary = {0, 1, 0};
+    } else if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+      const double v = d1 / (d1 - d3);
+      bary = {1 - v, v, 0};
+    } else if (d6 >= 0 && d5 <= d6) {
+      bary = {0, 0, 1};
+    } else if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+      const double w = d2 / (d2 - d6);
+      bary = {1 - w, 0, w};
+    } else if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+      const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+      bary = {0, 1 - w, w};
+    } else {
+      const double denom = 1.0 / (va + vb + vc);
+      const double v = vb * denom, w = vc * denom;
+      bary = {1 - v - w, v, w};
+    }
+  }
+  return (bary[0] * a + bary[1] * b + bary[2] * c - p).squaredNorm();
+}
+
+/// Signed solid angle of triangle abc seen from x (Van Oosterom & Strackee 1983).
+double solid_angle(const Vector3d& x, const Vector3d& A, const Vector3d& B, const Vector3d& Cc) {
+  const Vector3d a = A - x, b = B - x, c = Cc - x;
+  const double la = a.norm(), lb = b.norm(), lc = c.norm();
+  const double num = a.dot(b.cross(c));
+  const double den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+  return 2.0 * std::atan2(num, den);
+}
+
+double cage_scale(const Eigen::MatrixXd& C) { return (C.colwise().maxCoeff() - C.colwise().minCoeff()).maxCoeff(); }
+
+/// Throws unless every point is inside the cage or on it (winding number ≥ ½, or within 1e-12 × scale
+/// of a face), naming the first that is not.
+void require_inside(const Eigen::MatrixXd& C, const Eigen::MatrixXi& CF, const Eigen::MatrixXd& X) {
+  const Index n = X.rows();
+  for (Index i = 0; i < n; ++i)
+    if (!X.row(i).allFinite()) throw Error("point " + std::to_string(i) + " is not finite");
+  Eigen::VectorXd w(n);
+#pragma omp parallel for schedule(static) if (n > 256)
+  for (Index i = 0; i < n; ++i) w[i] = cage_winding_number(C, CF, X.row(i).transpose());
+  const double tol = 1e-12 * cage_scale(C);
+  for (Index i = 0; i < n; ++i) {
+    if (w[i] >= 0.5) continue;
+    const Vector3d x = X.row(i).transpose();
+    bool on = false;
+    for (Index f = 0; f < CF.rows() && !on; ++f) {
+      Vector3d b;
+      on = closest_on_triangle(x, C.row(CF(f, 0)), C.row(CF(f, 1)), C.row(CF(f, 2)), b) <= tol * tol;
+    }
+    if (on) continue;
+    std::ostringstream s;
+    s << "point " << i << " (" << x.transpose() << ") is outside the cage (winding number " << w[i] << ")";
+    throw Error(s.str());
+  }
+}
+
+}  // namespace
+
+void check_cage(const Eigen::MatrixXd& C, const Eigen::MatrixXi& CF) {
+  const Index k = C.rows();
+  if (C.cols() != 3 || CF.cols() != 3) throw Error("cage: vertices must be k×3 and faces m×3");
+  if (k < 4 || CF.rows() < 4) throw Error("cage: a closed cage needs at least 4 vertices and 4 faces");
+  for (Index j = 0; j < k; ++j)
+    if (!C.row(j).allFinite()) throw Error("cage: vertex " + std::to_string(j) + " is not finite");
+  std::map<std::pair<int, int>, std::vector<Index>> directed;
+  for (Index f = 0; f < CF.rows(); ++f) {
+    for (int c = 0; c < 3; ++c)
+      if (CF(f, c) < 0 || CF(f, c) >= k)
+        throw Error("cage: face " + std::to_string(f) + " has vertex index " + std::to_string(CF(f, c)) +
+                    " out of range [0, " + std::to_string(k) + ")");
+    if (CF(f, 0) == CF(f, 1) || CF(f, 1) == CF(f, 2) || CF(f, 0) == CF(f, 2))
+      throw Error("cage: face " + std::to_string(f) + " repeats a vertex");
+    const Vector3d a = C.row(CF(f, 0)), b = C.row(CF(f, 1)), c = C.row(CF(f, 2));
+    if ((b - a).cross(c - a).norm() <= 1e-14 * std::pow(cage_scale(C), 2))
+      throw Error("cage: face " + std::to_string(f) + " has zero area");
+    for (int c2 = 0; c2 < 3; ++c2) directed[{CF(f, c2), CF(f, (c2 + 1) % 3)}].push_back(f);
+  }
+  for (const auto& [e, faces] : directed) {
+    const std::string edge = "edge (" + std::to_string(e.first) + ", " + std::to_string(e.second) + ")";
+    if (faces.size() > 1)
+      throw Error("cage: not consistently oriented: " + edge + " has the same direction in faces " +
+                  std::to_string(faces[0]) + " and " + std::to_string(faces[1]));
+    const auto rev = directed.find({e.second, e.first});
+    if (rev == directed.end())
+      throw Error("cage: not closed: " + edge + " of face " + std::to_string(faces[0]) +
+                  " has no opposite face (a boundary edge, or faces oriented inconsistently)");
+  }
+  double vol = 0.0;
+  for (Index f = 0; f < CF.rows(); ++f)
+    vol += Vector3d(C.row(CF(f, 0))).dot(Vector3d(C.row(CF(f, 1))).cross(Vector3d(C.row(CF(f, 2)))));
+  if (!(vol > 0.0)) throw Error("cage: the faces are oriented inwards (signed volume " + std::to_string(vol / 6) + " ≤ 0)");
+}
+
+double cage_winding_number(const Eigen::MatrixXd& C, const Eigen::MatrixXi& CF, const Eigen::Vector3d& x) {
+  double w = 0.0;
+  for (Index f = 0; f < CF.rows(); ++f) w += solid_angle(x, C.row(CF(f, 0)), C.row(CF(f, 1)), C.row(CF(f, 2)));
+  return w / (4.0 * M_PI);
+}
+
+Eigen::MatrixXd mean_value_coordinates(const Eigen::MatrixXd& C, const Eigen::MatrixXi& CF, const Eigen::MatrixXd& X) {
+  check_cage(C, CF);
+  const Index n = X.rows(), k = C.rows();
+  if (X.cols() != 3) throw Error("mean_value_coordinates: points must be n×3");
+  require_inside(C, CF, X);
+  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(n, k);
+  const double eps = 1e-12 * cage_scale(C);
+#pragma omp parallel for schedule(dynamic, 64) if (n > 256)
+  for (Index i = 0; i < n; ++i) {
+    const Vector3d x = X.row(i).transpose();
+    Eigen::VectorXd d(k);
+    Eigen::MatrixXd u(k, 3);
+    bool done = false;
+    for (Index j = 0; j < k && !done; ++j) {
+      const Vector3d r = C.row(j).transpose() - x;
+      d[j] = r.norm();
+      if (d[j] < eps) {  // x at a cage vertex
+        W(i, j) = 1.0;
+        done = true;
+      } else {
+        u.row(j) = r.transpose() / d[j];
+      }
+    }
+    if (done) continue;
+    Eigen::RowVectorXd w = Eigen::RowVectorXd::Zero(k);
+    for (Index f = 0; f < CF.rows() && !done; ++f) {
+      const int p[3] = {CF(f, 0), CF(f, 1), CF(f, 2)};
+      double l[3], th[3], c[3], s[3];
+      for (int t = 0; t < 3; ++t) {
+        l[t] = (u.row(p[(t + 1) % 3]) - u.row(p[(t + 2) % 3])).norm();
+        th[t] = 2.0 * std::asin(std::min(1.0, 0.5 * l[t]));
+      }
+      const double h = 0.5 * (th[0] + th[1] + th[2]);
+      if (M_PI - h < 1e-10) {  // x on the triangle: its 2D barycentric coordinates (Ju et al. Fig. 4)
+        w.setZero();
+        for (int t = 0; t < 3; ++t) w[p[t]] = std::sin(th[t]) * d[p[(t + 2) % 3]] * d[p[(t + 1) % 3]];
+        done = true;
+        break;
+      }
+      Eigen::Matrix3d U;
+      U << u.row(p[0]), u.row(p[1]), u.row(p[2]);
+      const double sign = U.determinant() < 0 ? -1.0 : 1.0;
+      bool coplanar = false;
+      for (int t = 0; t < 3; ++t) {
+        c[t] = 2.0 * std::sin(h) * std::sin(h - th[t]) / (std::sin(th[(t + 1) % 3]) * std::sin(th[(t + 2) % 3])) - 1.0;
+        s[t] = sign * std::sqrt(std::max(0.0, 1.0 - c[t] * c[t]));
+        coplanar = coplanar || std::abs(s[t]) <= 1e-12;
+      }
+      if (coplanar) continue;  // x in the triangle's plane, outside it: no contribution
+      for (int t = 0; t < 3; ++t) {
+        const int a = (t + 1) % 3, b = (t + 2) % 3;  // i+1, i−1
+        w[p[t]] += (th[t] - c[a] * th[b] - c[b] * th[a]) / (d[p[t]] * std::sin(th[a]) * s[b]);
+      }
+    }
+    W.row(i) = w / w.sum();
+  }
+  if (!W.allFinite()) throw numerical_error("mean_value_coordinates: non-finite coordinates (degenerate cage?)");
+  return W;
+}
+
+double harmonic_interpolation_bound(const Eigen::MatrixXd& C, int grid) { return std::sqrt(3.0) * cage_scale(C) / grid; }
+
+Eigen::MatrixXd harmonic_cage_coordinates(const Eigen::MatrixXd& C, const Eigen::MatrixXi& CF, const Eigen::MatrixXd& X,
+                                          int grid) {
+  check_cage(C, CF);
+  if (grid < 4 || grid > 512) throw Error("harmonic_cage_coordinates: grid " + std::to_string(grid) + " (must be in [4, 512])");
+  const Index n = X.rows(), k = C.rows();
+  if (X.cols() != 3) throw Error("harmonic_cage_coordinates: points must be n×3");
+  require_inside(C, CF, X);
+
+  // Grid: cubic cells of size h, 2 cells of padding.
+  constexpr int pad = 2;
+  const Vector3d lo = C.colwise().minCoeff(), hi = C.colwise().maxCoeff();
+  const double h = (hi - lo).maxCoeff() / grid;
+  Eigen::Array3i N;
+  for (int a = 0; a < 3; ++a) N[a] = static_cast<int>(std::ceil((hi[a] - lo[a]) / h - 1e-9)) + 2 * pad + 1;
+  const Vector3d origin = lo - Vector3d::Constant(pad * h);
+  const Index nodes = static_cast<Index>(N[0]) * N[1] * N[2];
+  auto id = [&](int x, int y, int z) { return (static_cast<Index>(x) * N[1] + y) * N[2] + z; };
+  auto pos = [&](int x, int y, int z) { return Vector3d(origin + h * Vector3d(x, y, z)); };
+
+  // Rasterize the triangles into the nodes within √3 h: closest face and its barycentric coordinates.
+  const double band = std::sqrt(3.0) * h * (1.0 + 1e-9);
+  std::vector<double> dist(nodes, INFINITY);
+  std::vector<int> face(nodes, -1);
+  std::vector<Vector3d> bary(nodes);
+  for (Index f = 0; f < CF.rows(); ++f) {
+    const Vector3d a = C.row(CF(f, 0)), b = C.row(CF(f, 1)), c = C.row(CF(f, 2));
+    const Vector3d fmin = a.cwiseMin(b).cwiseMin(c) - Vector3d::Constant(band), fmax = a.cwiseMax(b).cwiseMax(c) + Vector3d::Constant(band);
+    Eigen::Array3i i0, i1;
+    for (int t = 0; t < 3; ++t) {
+      i0[t] = std::max(0, static_cast<int>(std::ceil((fmin[t] - origin[t]) / h)));
+      i1[t] = std::min(N[t] - 1, static_cast<int>(std::floor((fmax[t] - origin[t]) / h)));
+    }
+    for (int x = i0[0]; x <= i1[0]; ++x)
+      for (int y = i0[1]; y <= i1[1]; ++y)
+        for (int z = i0[2]; z <= i1[2]; ++z) {
+          Vector3d bc;
+          const double dd = std::sqrt(closest_on_triangle(pos(x, y, z), a, b, c, bc));
+          const Index v = id(x, y, z);
+          if (dd <= band && dd < dist[v]) {
+            dist[v] = dd;
+            face[v] = static_cast<int>(f);
+            bary[v] = bc;
+          }
+        }
+  }
+  // Classify: boundary (≤ h/2), exterior (flood fill from the border through non-boundary nodes), interior.
+  enum : unsigned char { kUnknown, kBoundary, kExterior };
+  std::vector<unsigned char> cls(nodes, kUnknown);
+  for (Index v = 0; v < nodes; ++v)
+    if (dist[v] <= 0.5 * h * (1.0 + 1e-6)) cls[v] = kBoundary;
+  std::vector<Index> stack;
+  auto push = [&](Index v) {
+    if (cls[v] == kUnknown) cls[v] = kExterior, stack.push_back(v);
+  };
+  push(id(0, 0, 0));
+  const int dx[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  while (!stack.empty()) {
+    const Index v = stack.back();
+    stack.pop_back();
+    const int x = static_cast<int>(v / (static_cast<Index>(N[1]) * N[2])), y = static_cast<int>((v / N[2]) % N[1]),
+              z = static_cast<int>(v % N[2]);
+    for (const auto& d : dx) {
+      const int X2 = x + d[0], Y2 = y + d[1], Z2 = z + d[2];
+      if (X2 >= 0 && Y2 >= 0 && Z2 >= 0 && X2 < N[0] && Y2 < N[1] && Z2 < N[2]) push(id(X2, Y2, Z2));
+    }
+  }
+  std::vector<Index> unknown(nodes, -1);
+  Index m = 0;
+  for (Index v = 0; v < nodes; ++v)
+    if (cls[v] == kUnknown) unknown[v] = m++;
+  if (m == 0) throw Error("harmonic_cage_coordinates: no grid node inside the cage (grid " + std::to_string(grid) + " too coarse)");
+
+  // The 7-point Laplacian on the interior nodes (rows scaled by h²), boundary neighbours to the rhs.
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(4 * m);
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(m, k);
+  for (int x = 0; x < N[0]; ++x)
+    for (int y = 0; y < N[1]; ++y)
+      for (int z = 0; z < N[2]; ++z) {
+        const Index v = id(x, y, z), r = unknown[v];
+        if (r < 0) continue;
+        t.emplace_back(r, r, 6.0);
+        for (const auto& d : dx) {
+          const Index w = id(x + d[0], y + d[1], z + d[2]);  // never off the grid: the border is exterior
+          if (unknown[w] >= 0) {
+            if (unknown[w] < r) t.emplace_back(r, unknown[w], -1.0);  // lower triangle
+          } else {
+            if (cls[w] != kBoundary)
+              throw numerical_error("harmonic_cage_coordinates: interior node next to an exterior node");
+            for (int c = 0; c < 3; ++c) B(r, CF(face[w], c)) += bary[w][c];
+          }
+        }
+      }
+  Eigen::SparseMatrix<double> A(m, m);
+  A.setFromTriplets(t.begin(), t.end());
+  CholeskySolver solver;
+  solver.compute(A);
+  const Eigen::MatrixXd U = solver.solve(B);
+  B.resize(0, 0);
+
+  // Trilinear interpolation at the points.
+  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(n, k);
+  bool missing = false;
+#pragma omp parallel for schedule(static) if (n > kParallelBelow) reduction(|| : missing)
+  for (Index i = 0; i < n; ++i) {
+    const Vector3d s = (X.row(i).transpose() - origin) / h;
+    int c0[3];
+    double f[3];
+    for (int a = 0; a < 3; ++a) {
+      c0[a] = std::clamp(static_cast<int>(std::floor(s[a])), 0, N[a] - 2);
+      f[a] = s[a] - c0[a];
+    }
+    for (int corner = 0; corner < 8; ++corner) {
+      const int ox = corner & 1, oy = (corner >> 1) & 1, oz = (corner >> 2) & 1;
+      const double w = (ox ? f[0] : 1 - f[0]) * (oy ? f[1] : 1 - f[1]) * (oz ? f[2] : 1 - f[2]);
+      if (w == 0.0) continue;
+      const Index v = id(c0[0] + ox, c0[1] + oy, c0[2] + oz);
+      if (unknown[v] >= 0) {
+        W.row(i) += w * U.row(unknown[v]);
+      } else if (face[v] >= 0) {
+        for (int c = 0; c < 3; ++c) W(i, CF(face[v], c)) += w * bary[v][c];
+      } else {
+        missing = true;
+      }
+    }
+  }
+  if (missing) throw numerical_error("harmonic_cage_coordinates: a point's cell has a node without a value");
+  return W;
+}
+
+}  // namespace spinmotor
