@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
@@ -80,4 +81,25 @@ TEST_CASE("-q prints nothing; the exit code still reports", "[cli]") {
   const Run m = run_cli("metrics -q '" + good + "' '" + good + "'");
   CHECK(m.code == 0);
   CHECK(m.out.empty());
+}
+
+TEST_CASE("spinmotor demo: every use runs on the embedded defaults and its figures hold", "[cli][demo]") {
+  const fs::path out = fs::temp_directory_path() / ("spinmotor_test_demo_" + std::to_string(::getpid()));
+  const Run r = run_cli("demo --json --out '" + out.string() + "'");
+  REQUIRE(r.code == 0);
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  CHECK(j == nlohmann::json::parse(slurp(out / "demo.json")));
+  // the twist (Fig. 21: not conformal) snaps back to Q_mean near 1; the pose and the skinned arm improve
+  CHECK(j["twist"]["q_mean"].get<double>() > 1.2);
+  CHECK(j["snap_twist"]["q_mean"].get<double>() < 1.01);
+  CHECK(j["snap_pose"]["q_mean"].get<double>() < j["surface_harmonic"]["q_mean"].get<double>());
+  CHECK(j["snap_pose"]["q_mean"].get<double>() < 1.02);
+  CHECK(j["rig_cleanup"]["snapped"]["q_mean"].get<double>() < j["rig_cleanup"]["lbs"]["q_mean"].get<double>());
+  CHECK(j["ik_spline"]["tip_error"].get<double>() <= 0.25 / 100);  // tube radius / 100
+  CHECK(j["spin"]["q_mean"].get<double>() < 1.1);
+  for (const char* f : {"capsule.obj", "capsule-twisted.obj", "capsule-posed.obj", "capsule-twist-snapped.obj",
+                        "capsule-pose-snapped.obj", "capsule-spin.obj", "tube-ik.obj", "arm-lbs.obj",
+                        "arm-lbs-snapped.obj"})
+    CHECK(fs::exists(out / f));
+  fs::remove_all(out);
 }
