@@ -8,12 +8,18 @@ namespace spinmotor::scene {
 std::unique_ptr<SceneDeformer> bind_surface_harmonic(const Scene& scene);
 std::unique_ptr<SceneDeformer> bind_spline(const Scene& scene);
 std::unique_ptr<SceneDeformer> bind_arap(const Scene& scene);
+std::unique_ptr<SceneDeformer> bind_ffd(const Scene& scene);
+std::unique_ptr<SceneDeformer> bind_cage(const Scene& scene);
+std::unique_ptr<SceneDeformer> bind_skin(const Scene& scene);
 
 namespace {
 const DeformerType kTypes[] = {
     {"surface-harmonic", &bind_surface_harmonic},
     {"spline", &bind_spline},
     {"arap", &bind_arap},
+    {"ffd", &bind_ffd},
+    {"cage", &bind_cage},
+    {"skin", &bind_skin},
 };
 }  // namespace
 
