@@ -219,6 +219,7 @@ struct ConformalSnap::Impl {
   std::optional<SpinTransform> st;  // bound once unless the boundary tangents follow the edit
   Eigen::VectorXd face_area, vertex_area;
   std::vector<int> next;            // boundary successor (surface on the left), −1 inside
+  double mean_edge = 1;             // mean edge length of the rest mesh
   double bind_ms = 0;
 
   SpinTransformOptions spin_options() const {
@@ -251,6 +252,12 @@ ConformalSnap::ConformalSnap(const Mesh& rest, const ConformalSnapOptions& optio
   s.vertex_area = Eigen::VectorXd::Zero(n);
   for (Eigen::Index f = 0; f < rest.F.rows(); ++f)
     for (int c = 0; c < 3; ++c) s.vertex_area[rest.F(f, c)] += s.face_area[f] / 3.0;
+  {
+    double sum = 0;
+    for (Eigen::Index f = 0; f < rest.F.rows(); ++f)
+      for (int c = 0; c < 3; ++c) sum += (rest.V.row(rest.F(f, c)) - rest.V.row(rest.F(f, (c + 1) % 3))).norm();
+    s.mean_edge = sum / (3.0 * static_cast<double>(rest.F.rows()));
+  }
   s.next.assign(n, -1);
   for (const auto& loop : boundary_loops(rest.F)) {
     s.open = true;
@@ -299,6 +306,10 @@ ConformalSnapResult ConformalSnap::snap_face_similarities(const Eigen::MatrixXd&
   auto t = Clock::now();
   r.mu = vertex_similarities(s.rest.F, n, Sf, s.face_area);
   r.rho = nearest_rho(s.rest.V, s.rest.F, r.mu);
+  // An edit that is a similarity up to rounding gives ρ at roundoff level (≈ 1e-16/h); eq. 6 with
+  // such a ρ would factor a singular A*A (its kernel, the constants, is only perturbed by rounding).
+  // Below 1e-10/h the field is the similarity's ρ = 0, which both problems solve exactly.
+  if (r.rho.cwiseAbs().maxCoeff() * s.mean_edge < 1e-10) r.rho.setZero();
   r.timings.similarity_fit = ms_since(t);
 
   // Open mesh with the edit's boundary tangents (§5.7, §7.4): bind for this edit.
