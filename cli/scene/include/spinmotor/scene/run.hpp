@@ -8,8 +8,12 @@
 // Metrics JSON of a frame (SCENE.md `output.metrics`):
 //   scene, mesh, deformer, vertices, faces, bind_ms, pose_ms, q_mean, q_max, area_distortion,
 //   max_handle_error, frame (animations only), metrics (the full compute_metrics object, see
-//   mesh/metrics/json.hpp), the deformer's own figures (e.g. "ik", "fit"), and "snap": "not
-//   implemented" while the conformal snap is not available in this build.
+//   mesh/metrics/json.hpp), the deformer's own figures (e.g. "ik", "fit"); all of these describe
+//   the deformer's pose (the edit). With `snap` enabled, "snap" holds the same after the conformal
+//   snap (spin/conformal_snap.hpp, bound once per run): tradeoff, q_mean, q_max, area_distortion,
+//   rms_edit_to_snap and max_edit_to_snap (relative to the edit's bounding-box diagonal), eigenvalue,
+//   bind_ms (first frame), similarity_fit_ms, eigen_ms, poisson_ms, total_ms, metrics (full object).
+//   The output mesh and colours are then the snapped mesh (SCENE.md `output`).
 // Animated scenes (`frames`) number their outputs: out/x.obj -> out/x.0000.obj, out/x.0001.obj, ...
 #include <Eigen/Core>
 #include <filesystem>
@@ -23,7 +27,8 @@
 namespace spinmotor::scene {
 
 struct FrameResult {
-  Eigen::MatrixXd V;       ///< deformed positions (n×3)
+  Eigen::MatrixXd V;       ///< output positions (n×3): the deformation, or its snap when snap is enabled
+  Eigen::MatrixXd V_unsnapped;  ///< the deformer's positions when snap is enabled (else empty)
   double pose_ms = 0;      ///< time of the deformer's pose() for this frame
   nlohmann::json metrics;  ///< the metrics document of this frame
 };
@@ -31,7 +36,7 @@ struct FrameResult {
 struct RunResult {
   double bind_ms = 0;
   std::vector<FrameResult> frames;
-  std::vector<std::string> warnings;  ///< e.g. snap not available
+  std::vector<std::string> warnings;  ///< notes for the user (printed by `deform`)
 };
 
 /// Binds and poses. Throws Error naming the JSON path of a pose entry no control has, or what the

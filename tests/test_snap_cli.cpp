@@ -1,0 +1,134 @@
+// `spinmotor snap` end to end: an exact spin transformation made by `spinmotor spin` is snapped back
+// onto itself (JSON checked), a twisted sausage written as a foreign edit snaps to Q_mean near 1, and
+// mismatched meshes exit with code 2, name both counts and leave no output.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "spinmotor/mesh/generators.hpp"
+#include "spinmotor/mesh/io.hpp"
+#include "spinmotor/mesh/metrics/distances.hpp"
+#include "spinmotor/mesh/metrics/quasi_conformal.hpp"
+
+using namespace spinmotor;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+  int code;
+  std::string out, err;
+};
+
+Run run_cli(const fs::path& dir, const std::string& args) {
+  const fs::path err_file = dir / "stderr.txt";
+  const std::string cmd = std::string("'") + SPINMOTOR_CLI + "' " + args + " 2> '" + err_file.string() + "'";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  REQUIRE(pipe != nullptr);
+  std::string out;
+  char buf[4096];
+  for (size_t n; (n = fread(buf, 1, sizeof buf, pipe)) > 0;) out.append(buf, n);
+  const int status = pclose(pipe);
+  std::ifstream in(err_file);
+  std::stringstream err;
+  err << in.rdbuf();
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out, err.str()};
+}
+
+struct TempDir {
+  fs::path path;
+  TempDir() : path(fs::temp_directory_path() / ("spinmotor_cli_snap_" + std::to_string(getpid()))) {
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+  std::string file(const std::string& name) const { return "'" + (path / name).string() + "'"; }
+};
+
+}  // namespace
+
+TEST_CASE("snap returns an exact spin transformation made by `spin`", "[cli][snap]") {
+  TempDir tmp;
+  write_mesh(tmp.path / "rest.obj", icosphere(3));
+  const Run s = run_cli(tmp.path, "spin " + tmp.file("rest.obj") + " --rho-expr '0.1*sin(2*x)' --out " +
+                                      tmp.file("spin.obj"));
+  REQUIRE(s.code == 0);
+  const Run r = run_cli(tmp.path, "snap " + tmp.file("rest.obj") + " " + tmp.file("spin.obj") + " --out " +
+                                      tmp.file("snap.obj") + " --json");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  CHECK(j["vertices"] == 642);
+  CHECK(j["rms_edit_to_snap"].get<double>() < 1e-3);
+  CHECK(j["q_mean_after"].get<double>() < 1.01);
+  const Mesh edit = read_mesh(tmp.path / "spin.obj"), snap = read_mesh(tmp.path / "snap.obj");
+  CHECK(vertex_distances(edit.V, snap.V).rms == Approx(j["rms_edit_to_snap"].get<double>()).margin(1e-9));
+  CHECK(snap.UV.rows() == edit.UV.rows());  // texture coordinates kept
+}
+
+TEST_CASE("snap of a twisted sausage from a file, tradeoff and alignment options", "[cli][snap]") {
+  TempDir tmp;
+  Mesh m = icosphere(3);
+  m.V.col(2) *= 3.0;
+  Mesh e = m;
+  for (Eigen::Index i = 0; i < m.V.rows(); ++i) {
+    const double a = M_PI / 2 * (m.V(i, 2) + 3.0) / 6.0;
+    e.V(i, 0) = std::cos(a) * m.V(i, 0) - std::sin(a) * m.V(i, 1);
+    e.V(i, 1) = std::sin(a) * m.V(i, 0) + std::cos(a) * m.V(i, 1);
+  }
+  write_mesh(tmp.path / "rest.off", m);
+  write_mesh(tmp.path / "edit.ply", e);
+  double q_prev = 0;
+  for (const char* t : {"0", "1"}) {
+    const Run r = run_cli(tmp.path, "snap " + tmp.file("rest.off") + " " + tmp.file("edit.ply") + " --out " +
+                                        tmp.file("snap.obj") + " --tradeoff " + t + " --align translation --json");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    CHECK(j["q_mean_before"].get<double>() > 1.2);
+    if (std::string(t) == "1") CHECK(j["q_mean_after"].get<double>() < q_prev);
+    q_prev = j["q_mean_after"].get<double>();
+  }
+  CHECK(q_prev < 1.01);
+  const Run h = run_cli(tmp.path, "snap " + tmp.file("rest.off") + " " + tmp.file("edit.ply") + " --out " +
+                                      tmp.file("snap2.obj"));
+  CHECK(h.code == 0);
+  CHECK_THAT(h.out, Catch::Contains("Q_mean before") && Catch::Contains("RMS distance"));
+}
+
+TEST_CASE("snap: mismatched or bad input exits 2 and writes nothing", "[cli][snap][errors]") {
+  TempDir tmp;
+  write_mesh(tmp.path / "a.obj", icosphere(2));
+  write_mesh(tmp.path / "b.obj", icosphere(3));
+  const Run r = run_cli(tmp.path, "snap " + tmp.file("a.obj") + " " + tmp.file("b.obj") + " --out " + tmp.file("o.obj"));
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Catch::Contains("642 vertices") && Catch::Contains("162 vertices"));
+  CHECK_FALSE(fs::exists(tmp.path / "o.obj"));
+  // Same counts, different faces.
+  Mesh c = icosphere(2);
+  std::swap(c.F(3, 0), c.F(3, 1));
+  write_mesh(tmp.path / "c.obj", c);
+  const Run f = run_cli(tmp.path, "snap " + tmp.file("a.obj") + " " + tmp.file("c.obj") + " --out " + tmp.file("o.obj"));
+  CHECK(f.code == 2);
+  CHECK_THAT(f.err, Catch::Contains("face 3"));
+  CHECK_FALSE(fs::exists(tmp.path / "o.obj"));
+  // Out-of-range tradeoff is a usage error.
+  const Run t = run_cli(tmp.path, "snap " + tmp.file("a.obj") + " " + tmp.file("a.obj") + " --out " +
+                                      tmp.file("o.obj") + " --tradeoff 2");
+  CHECK(t.code == 2);
+  CHECK_FALSE(fs::exists(tmp.path / "o.obj"));
+  // The generalized problem needs a closed mesh.
+  write_mesh(tmp.path / "g.obj", grid(Eigen::Vector2d(1, 1), Eigen::Vector2i(5, 5)));
+  const Run g = run_cli(tmp.path, "snap " + tmp.file("g.obj") + " " + tmp.file("g.obj") + " --out " + tmp.file("o.obj") +
+                                      " --problem generalized");
+  CHECK(g.code == 2);
+  CHECK_THAT(g.err, Catch::Contains("closed"));
+  CHECK_FALSE(fs::exists(tmp.path / "o.obj"));
+}
