@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "dlb_point.hpp"
 #include "spinmotor/deform/motor_blend_field.hpp"
 #include "spinmotor/error.hpp"
 
@@ -55,7 +56,7 @@ double greville(int a, int count, int d) {
 template <int O, class Lane, bool Signed>
 [[gnu::always_inline]] inline Lane contract(const Lane* lanes, const std::array<int, 3>& dims,
                                             const std::array<int, 3>& order, const std::array<int, 3>& start,
-                                            const double* bu, const signed char* sign) {
+                                            const double* bu, const double* sign) {
   const int oa = O ? O : order[0], ob = O ? O : order[1], oc = O ? O : order[2];
   const Eigen::Index m = dims[1], n = dims[2];
   const double* bv = bu + oa;
@@ -85,7 +86,7 @@ enum class Kernel { Position, Log, Linear };
 template <int O, Kernel K>
 void run(const Eigen::MatrixXd& P, const std::vector<unsigned char>& inside,
          const std::vector<std::array<int, 3>>& start, const std::vector<double>& basis, const std::array<int, 3>& dims,
-         const std::array<int, 3>& order, const void* lanes, const signed char* signs, const std::vector<int>& pivot,
+         const std::array<int, 3>& order, const void* lanes, const double* signs, const std::vector<int>& pivot,
          Eigen::MatrixXd& V_out) {
   const Eigen::Index n = P.rows(), L = static_cast<Eigen::Index>(dims[0]) * dims[1] * dims[2];
   const int stride = order[0] + order[1] + order[2];
@@ -108,16 +109,8 @@ void run(const Eigen::MatrixXd& P, const std::vector<unsigned char>& inside,
     } else {
       const A8 s = contract<O, A8, true>(static_cast<const A8*>(lanes), dims, order, start[i], b,
                                          signs + static_cast<Eigen::Index>(pivot[i]) * L);
-      const ga::Mot acc(s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7]);
-      const auto nn = acc * ga::reverse(acc);
-      const double alpha = nn.get<ga::blade::s>(), beta = nn.get<ga::blade::e123ni>();
-      if (!(alpha > 0.0)) {
-        cancelled = true;
-        q = p;
-      } else {
-        const double r = 1.0 / std::sqrt(alpha);
-        q = ga::transform(acc * ga::MV<ga::blade::s, ga::blade::e123ni>{r, -0.5 * beta / alpha * r}, p);
-      }
+      q = detail::dlb_point(s.data(), p);  // normalize(Σ s_c w_c R_c) applied to p
+      if (!q.allFinite()) cancelled = true, q = p;
     }
     V_out(i, 0) = q.x(), V_out(i, 1) = q.y(), V_out(i, 2) = q.z();
   }
@@ -128,7 +121,7 @@ template <Kernel K>
 void dispatch(const Eigen::MatrixXd& P, const std::vector<unsigned char>& inside,
               const std::vector<std::array<int, 3>>& start, const std::vector<double>& basis,
               const std::array<int, 3>& dims, const std::array<int, 3>& order, const void* lanes,
-              const signed char* signs, const std::vector<int>& pivot, Eigen::MatrixXd& V_out) {
+              const double* signs, const std::vector<int>& pivot, Eigen::MatrixXd& V_out) {
   if (order[0] == 4 && order[1] == 4 && order[2] == 4)
     run<4, K>(P, inside, start, basis, dims, order, lanes, signs, pivot, V_out);
   else
@@ -158,8 +151,8 @@ FfdDeformer FfdDeformer::bind(const Eigen::MatrixXd& V, const Options& options) 
   f.options_ = options;
   f.dims_ = options.lattice;
   const Eigen::Index L = f.controls();
-  if (options.mode == Mode::Motor && options.blend == ga::Blend::Linear && L > 4096)
-    throw Error("FfdDeformer: the dlb blend is limited to 4096 controls (" + std::to_string(L) + " given)");
+  if (options.mode == Mode::Motor && options.blend == ga::Blend::Linear && L > 2048)
+    throw Error("FfdDeformer: the dlb blend is limited to 2048 controls (" + std::to_string(L) + " given)");
   for (int a = 0; a < 3; ++a) {
     if (options.basis == Basis::Bezier && f.dims_[a] > 32)
       throw Error(std::string("FfdDeformer: a Bezier lattice of more than 32 controls along ") + kAxis[a] +

@@ -6,6 +6,7 @@
 #include <map>
 #include <sstream>
 
+#include "dlb_point.hpp"
 #include "spinmotor/deform/motor_blend_field.hpp"
 #include "spinmotor/error.hpp"
 
@@ -20,19 +21,6 @@ double segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, cons
   const Eigen::Vector3d d = b - a;
   t = std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
   return (p - a - t * d).norm();
-}
-
-/// The unnormalized linear blend acc = r + ε d applied to p as the unit motor normalize(acc)
-/// (Kavan et al. 2008 §4: the part of d along r that normalization removes does not reach the point).
-[[gnu::always_inline]] inline Eigen::Vector3d dlb_point(const double* m, const Eigen::Vector3d& p) {
-  const double w = m[0], vx = -m[3], vy = -m[2], vz = -m[1];
-  const double d0 = -m[7], dx = -m[4], dy = -m[5], dz = -m[6];
-  const double s2 = 2.0 / (w * w + vx * vx + vy * vy + vz * vz);
-  const double ax = vy * p.z() - vz * p.y(), ay = vz * p.x() - vx * p.z(), az = vx * p.y() - vy * p.x();
-  const double bx = vy * az - vz * ay, by = vz * ax - vx * az, bz = vx * ay - vy * ax;
-  const double cx = vy * dz - vz * dy, cy = vz * dx - vx * dz, cz = vx * dy - vy * dx;
-  return {p.x() + s2 * (w * ax + bx + w * dx - d0 * vx + cx), p.y() + s2 * (w * ay + by + w * dy - d0 * vy + cy),
-          p.z() + s2 * (w * az + bz + w * dz - d0 * vz + cz)};
 }
 
 }  // namespace
@@ -288,13 +276,10 @@ void SkinDeformer::pose(std::span<const ga::Mot> frames, Eigen::MatrixXd& V_out)
       for (Eigen::Index i = 0; i < n; ++i) {
         const Influence& f = inf[i];
         const double* sp = S + static_cast<Eigen::Index>(f.bone[0]) * B;
-        double acc[8];
-        for (int c = 0; c < 8; ++c) acc[c] = f.w[0] * K[f.bone[0]][c];
-        for (int s = 1; s < 4; ++s) {
-          const double w = sp[f.bone[s]] * f.w[s];
-          for (int c = 0; c < 8; ++c) acc[c] += w * K[f.bone[s]][c];
-        }
-        const Eigen::Vector3d q = dlb_point(acc, Eigen::Vector3d(P(i, 0), P(i, 1), P(i, 2)));
+        using A8 = Eigen::Array<double, 8, 1>;  // one motor per 8-lane register
+        A8 sum = f.w[0] * Eigen::Map<const A8>(K[f.bone[0]].data());
+        for (int s = 1; s < 4; ++s) sum += (sp[f.bone[s]] * f.w[s]) * Eigen::Map<const A8>(K[f.bone[s]].data());
+        const Eigen::Vector3d q = detail::dlb_point(sum.data(), Eigen::Vector3d(P(i, 0), P(i, 1), P(i, 2)));
         cancelled = cancelled || !q.allFinite();
         V_out(i, 0) = q.x(), V_out(i, 1) = q.y(), V_out(i, 2) = q.z();
       }

@@ -63,7 +63,7 @@ public:
 
   /// Inputs: the rest mesh (only V is read; n ≥ 1 finite vertices). Throws Error for a lattice size
   /// < 2 or above 256 per axis, a degree < 1, an empty, inverted or non-finite box, PivotLog, or a
-  /// Linear blend with more than 4096 controls (its sign table is L² bytes).
+  /// Linear blend with more than 2048 controls (its sign table is L² doubles).
   static FfdDeformer bind(const Mesh& rest, const Options& options);
   static FfdDeformer bind(const Eigen::MatrixXd& V_rest, const Options& options);
 
@@ -105,7 +105,7 @@ private:
   // per-pose scratch
   std::vector<Eigen::Array<double, 8, 1>> lanes_;  // Log: logs (6 + 2 zero pads); Linear: motors
   std::vector<Eigen::Array4d> points4_;            // Position: control points (x, y, z, 0)
-  std::vector<signed char> signs_;                 // Linear: L², sign <R_c ~R_p>_0
+  std::vector<double> signs_;                      // Linear: L², sign <R_c ~R_p>_0
   std::vector<ga::Mot> motors_;
   Eigen::MatrixXd points_;
 };
