@@ -294,3 +294,4 @@ TEST_CASE("conformal snap rejects bad input", "[snap]") {
   const Mesh g = grid(Eigen::Vector2d(1.0, 1.0), Eigen::Vector2i(4, 4));
   CHECK_THROWS_WITH(ConformalSnap(g, {.problem = SpinEigenProblem::Generalized}), Catch::Contains("closed"));
 }
+
