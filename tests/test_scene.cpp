@@ -333,3 +333,24 @@ TEST_CASE("spinmotor deform: bad scenes exit 2, name the path, write nothing", "
   CHECK(broken.code == 2);
   CHECK_THAT(broken.err, Catch::Contains("broken.json: invalid JSON") && Catch::Contains("line 2"));
 }
+
+TEST_CASE("spinmotor deform: a failure after the first frame of an animation leaves no output", "[scene][cli][errors]") {
+  // Injected failure: the mesh of frame 1 cannot be written because a directory occupies its path. The
+  // frames are computed first; frame 0's mesh and metrics are written and must be removed again.
+  TempDir tmp;
+  const fs::path out = tmp.path / "outdir";
+  fs::create_directories(out / "out" / "frames_tube.0001.obj" / "blocker");
+  const CliResult r = run_cli("deform '" + (kScenes / "frames_tube.json").string() + "' --out-dir '" + out.string() + "'",
+                              tmp.path);
+  CAPTURE(r.err);
+  CHECK((r.code == 2 || r.code == 3));
+  CHECK_THAT(r.err, Catch::Contains("frames_tube.0001.obj"));
+  CHECK(count_files(out) == 0);  // frame 0's outputs were removed; only the blocker directory remains
+  CHECK(fs::is_directory(out / "out" / "frames_tube.0001.obj" / "blocker"));
+  // without the blocker the same command writes all 3 frames (mesh + metrics)
+  fs::remove_all(out);
+  const CliResult ok = run_cli("deform '" + (kScenes / "frames_tube.json").string() + "' --out-dir '" + out.string() + "'",
+                               tmp.path);
+  CHECK(ok.code == 0);
+  CHECK(count_files(out) == 6);
+}
