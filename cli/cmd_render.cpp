@@ -3,11 +3,8 @@
 // without a window (viewer/render: EGL surfaceless, EGL pbuffer or OSMesa). Compiled only when the
 // renderer library is built (SPINMOTOR_BUILD_VIEWER). The PNG is written atomically: on any error
 // (exit 2 bad input, 3 numerical) no file is left.
-#include <chrono>
-#include <cstdio>
 #include <iostream>
 #include <memory>
-#include <sstream>
 #include <string>
 
 #include "command.hpp"
@@ -18,29 +15,6 @@
 namespace {
 
 using namespace spinmotor;
-
-// "a,b[,c]" → numbers; Error naming the option on anything else.
-std::vector<double> parse_list(const std::string& s, const char* option, std::size_t lo, std::size_t hi) {
-  std::vector<double> out;
-  std::stringstream in(s);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    std::size_t used = 0;
-    double v = 0;
-    try {
-      v = std::stod(item, &used);
-    } catch (...) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size() || !std::isfinite(v))
-      throw Error(std::string(option) + ": '" + item + "' is not a finite number (in '" + s + "')");
-    out.push_back(v);
-  }
-  if (out.size() < lo || out.size() > hi)
-    throw Error(std::string(option) + ": expected " + std::to_string(lo) + (lo == hi ? "" : "-" + std::to_string(hi)) +
-                " comma-separated numbers, got '" + s + "'");
-  return out;
-}
 
 const cli::RegisterCommand reg{
     "render", "Render a mesh to PNG without a window (Q / checker / normal colours)", [](CLI::App& sub) {
@@ -74,23 +48,10 @@ const cli::RegisterCommand reg{
                  "  spinmotor render spot.obj --color checker --camera 120,15 --out spot.png");
       sub.callback([a] {
         render::RenderOptions o;
-        int w = 0, h = 0;
-        char tail = 0;
-        if (std::sscanf(a->size.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 || h > 16384)
-          throw Error("--size: expected WxH with 1 <= W, H <= 16384, got '" + a->size + "'");
-        o.width = w, o.height = h;
-        if (!a->camera.empty()) {
-          const auto c = parse_list(a->camera, "--camera", 2, 3);
-          o.azimuth_deg = c[0], o.elevation_deg = c[1];
-          if (c.size() == 3) {
-            if (!(c[2] > 0)) throw Error("--camera: distance must be positive, got " + std::to_string(c[2]));
-            o.distance = c[2];
-          }
-        }
+        render::parse_size(a->size, o);
+        if (!a->camera.empty()) render::parse_camera(a->camera, o);
         o.up = a->up == "x" ? Eigen::Vector3d::UnitX() : a->up == "y" ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitZ();
-        const auto qr = parse_list(a->q_range, "--q-range", 2, 2);
-        if (!(qr[0] >= 1 && qr[1] > qr[0])) throw Error("--q-range: expected 1 <= LO < HI, got '" + a->q_range + "'");
-        o.style.q_min = qr[0], o.style.q_max = qr[1];
+        render::parse_q_range(a->q_range, o);
         o.style.color = a->color == "q"         ? render::ColorMode::Q
                         : a->color == "checker" ? render::ColorMode::Checker
                         : a->color == "normals" ? render::ColorMode::Normals
@@ -108,7 +69,7 @@ const cli::RegisterCommand reg{
         const render::Image im = render::render_mesh(mesh, a->rest.empty() ? nullptr : &rest, o, &t);
         render::write_png(a->out, im);
         if (!a->quiet)
-          std::cout << "wrote " << a->out << " (" << w << "x" << h << ", " << mesh.V.rows() << " vertices, "
+          std::cout << "wrote " << a->out << " (" << o.width << "x" << o.height << ", " << mesh.V.rows() << " vertices, "
                     << mesh.F.rows() << " faces) with " << t.backend << ": context " << t.context_ms << " ms, upload "
                     << t.upload_ms << " ms, draw " << t.draw_ms << " ms\n";
       });

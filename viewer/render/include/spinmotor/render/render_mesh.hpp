@@ -34,6 +34,13 @@ struct RenderTimings {
   std::string backend;    ///< OffscreenContext::description()
 };
 
+/// Parses "WxH" (1 ≤ W, H ≤ 16384) into options.width/height; Error naming `option` otherwise.
+void parse_size(const std::string& text, RenderOptions& options, const char* option = "--size");
+/// Parses "AZ,EL[,DIST]" (degrees, degrees, distance > 0) into the options; Error naming `option` otherwise.
+void parse_camera(const std::string& text, RenderOptions& options, const char* option = "--camera");
+/// Parses "LO,HI" (1 ≤ LO < HI) into options.style.q_min/q_max; Error naming `option` otherwise.
+void parse_q_range(const std::string& text, RenderOptions& options, const char* option = "--q-range");
+
 /// The camera render_mesh uses for `V` (target the box centre, framing distance unless given).
 OrbitCamera render_camera(const Eigen::MatrixXd& V, const RenderOptions& options);
 
