@@ -1,5 +1,5 @@
 // `spinmotor snap REST EDITED --out OUT [--tradeoff t] [--problem standard|generalized]
-// [--align similarity|translation|none] [--json]`: the nearest spin transformation of an edit
+// [--align similarity|translation|none] [--smooth-rho N] [--json]`: the nearest spin transformation of an edit
 // (Crane et al. 2011 §7.2, spin/conformal_snap.hpp). EDITED may come from any tool as long as it keeps
 // the rest mesh's vertex order and faces. The output keeps EDITED's texture coordinates (or REST's if
 // EDITED has none).
@@ -29,6 +29,7 @@ const cli::RegisterCommand reg{
       struct Args {
         std::string rest, edited, out, problem = "standard", align = "similarity";
         double tradeoff = 1.0;
+        int smooth = 0;
         bool json = false;
       };
       auto a = std::make_shared<Args>();
@@ -43,6 +44,11 @@ const cli::RegisterCommand reg{
           ->capture_default_str();
       sub.add_option("--align", a->align, "Placement onto the edit: similarity (Umeyama), translation, none")
           ->check(CLI::IsMember({"similarity", "translation", "none"}))
+          ->capture_default_str();
+      sub.add_option("--smooth-rho", a->smooth,
+                     "Passes of face-neighbour averaging of rho before the solve (for creased edits, e.g. "
+                     "linear-blend-skinned elbows, whose rho has spikes)")
+          ->check(CLI::NonNegativeNumber)
           ->capture_default_str();
       sub.add_flag("--json", a->json, "Print sizes, quality and timings as JSON");
       sub.callback([a] {
@@ -65,6 +71,7 @@ const cli::RegisterCommand reg{
           }
         ConformalSnapOptions o;
         o.tradeoff = a->tradeoff;
+        o.rho_smoothing = a->smooth;
         o.problem = a->problem == "generalized" ? SpinEigenProblem::Generalized : SpinEigenProblem::Standard;
         o.alignment = a->align == "translation" ? SnapAlignment::Translation
                       : a->align == "none"      ? SnapAlignment::None

@@ -220,6 +220,7 @@ struct ConformalSnap::Impl {
   Eigen::VectorXd face_area, vertex_area;
   std::vector<int> next;            // boundary successor (surface on the left), −1 inside
   double mean_edge = 1;             // mean edge length of the rest mesh
+  EdgeTopology topo;                // face adjacency for rho_smoothing
   double bind_ms = 0;
 
   SpinTransformOptions spin_options() const {
@@ -258,6 +259,8 @@ ConformalSnap::ConformalSnap(const Mesh& rest, const ConformalSnapOptions& optio
       for (int c = 0; c < 3; ++c) sum += (rest.V.row(rest.F(f, c)) - rest.V.row(rest.F(f, (c + 1) % 3))).norm();
     s.mean_edge = sum / (3.0 * static_cast<double>(rest.F.rows()));
   }
+  if (options.rho_smoothing < 0) throw Error("conformal_snap: rho_smoothing must be >= 0");
+  if (options.rho_smoothing > 0) s.topo = edge_topology(rest.F);
   s.next.assign(n, -1);
   for (const auto& loop : boundary_loops(rest.F)) {
     s.open = true;
@@ -310,6 +313,21 @@ ConformalSnapResult ConformalSnap::snap_face_similarities(const Eigen::MatrixXd&
   // such a ρ would factor a singular A*A (its kernel, the constants, is only perturbed by rounding).
   // Below 1e-10/h the field is the similarity's ρ = 0, which both problems solve exactly.
   if (r.rho.cwiseAbs().maxCoeff() * s.mean_edge < 1e-10) r.rho.setZero();
+  for (int pass = 0; pass < s.opt.rho_smoothing; ++pass) {
+    Eigen::VectorXd sm(m);
+    for (Eigen::Index f = 0; f < m; ++f) {
+      double num = s.face_area[f] * r.rho[f], den = s.face_area[f];
+      for (int c = 0; c < 3; ++c) {
+        const int e = s.topo.FE(f, c);
+        for (int k = s.topo.EF_offset[e]; k < s.topo.EF_offset[e + 1]; ++k) {
+          const int g = s.topo.EF_face[k];
+          if (g != f) num += s.face_area[g] * r.rho[g], den += s.face_area[g];
+        }
+      }
+      sm[f] = num / den;
+    }
+    r.rho.swap(sm);
+  }
   r.timings.similarity_fit = ms_since(t);
 
   // Open mesh with the edit's boundary tangents (§5.7, §7.4): bind for this edit.
