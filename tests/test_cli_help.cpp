@@ -57,7 +57,7 @@ TEST_CASE("every subcommand's --help shows examples", "[cli]") {
   }
 }
 
-TEST_CASE("--version, and usage errors exit 2", "[cli]") {
+TEST_CASE("version flag and usage errors (exit 2)", "[cli]") {
   const Run v = run_cli("--version");
   CHECK(v.code == 0);
   CHECK_THAT(v.out, Catch::StartsWith("spinmotor "));
@@ -67,7 +67,7 @@ TEST_CASE("--version, and usage errors exit 2", "[cli]") {
   CHECK(run_cli("metrics only_one.obj").code == 2);    // missing argument
 }
 
-TEST_CASE("-q prints nothing; the exit code still reports", "[cli]") {
+TEST_CASE("quiet flag prints nothing but the exit code still reports", "[cli]") {
   const std::string good = (kData / "tetrahedron.obj").string();
   const std::string bad = (kData / "bad" / "nonmanifold_edge.obj").string();
   REQUIRE(fs::exists(good));
