@@ -30,7 +30,7 @@ const cli::RegisterCommand reg{
         std::string rest, edited, out, problem = "standard", align = "similarity";
         double tradeoff = 1.0;
         int smooth = 0;
-        bool json = false;
+        bool json = false, quiet = false;
       };
       auto a = std::make_shared<Args>();
       sub.add_option("REST", a->rest, "Rest mesh (connected oriented manifold)")->required();
@@ -51,6 +51,12 @@ const cli::RegisterCommand reg{
           ->check(CLI::NonNegativeNumber)
           ->capture_default_str();
       sub.add_flag("--json", a->json, "Print sizes, quality and timings as JSON");
+      sub.add_flag("-q,--quiet", a->quiet, "Print nothing unless --json");
+      sub.footer(
+          "Examples:\n"
+          "  spinmotor snap rest.obj posed.obj --out snapped.obj                 # nearest spin transformation\n"
+          "  spinmotor snap rest.obj posed.obj --out half.obj --tradeoff 0.5     # halfway between edit and conformal\n"
+          "  spinmotor snap arm.obj arm-lbs.obj --out arm-clean.obj --smooth-rho 20 --json   # creased skinning edits");
       sub.callback([a] {
         const Mesh rest = read_mesh(a->rest);
         const Mesh edited = read_mesh(a->edited);
@@ -109,7 +115,7 @@ const cli::RegisterCommand reg{
           j["poisson_ms"] = t.poisson;
           j["total_ms"] = cs.bind_ms() + t.total();
           std::cout << j.dump(2) << '\n';
-        } else {
+        } else if (!a->quiet) {
           std::printf("snap: %lld vertices, %lld faces, %s problem, tradeoff %g, %s alignment\n",
                       static_cast<long long>(rest.V.rows()), static_cast<long long>(rest.F.rows()), a->problem.c_str(),
                       a->tradeoff, a->align.c_str());

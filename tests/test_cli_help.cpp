@@ -48,7 +48,7 @@ const fs::path kData = SPINMOTOR_TEST_DATA_DIR;
 }  // namespace
 
 TEST_CASE("every subcommand's --help shows examples", "[cli]") {
-  for (const char* cmd : {"batch", "check", "deform", "demo", "flow", "metrics", "spectrum", "spin"}) {
+  for (const char* cmd : {"batch", "check", "deform", "demo", "flow", "metrics", "snap", "spectrum", "spin"}) {
     const Run r = run_cli(std::string(cmd) + " --help");
     CAPTURE(cmd, r.out);
     CHECK(r.code == 0);
