@@ -1,0 +1,77 @@
+#pragma once
+// The viewer's document: a scene file (SCENE.md) or a bare mesh, its bound deformer, the current pose
+// with undo/redo, and saving. Window-free (the headless screenshot mode and the tests drive it).
+//
+//   Session s = Session::open("scene.json");    // load, validate, bind the deformer once
+//   s.set_motor("tip", m);  s.commit_pose();    // an edit (one undo step per commit)
+//   const Eigen::MatrixXd& V = s.posed();       // the deformer's pose() for the current pose
+//   s.save_scene("edited.json");                // same JSON, the pose replaced by the current one
+#include <Eigen/Core>
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "spinmotor/scene/deformer_registry.hpp"
+#include "spinmotor/scene/scene.hpp"
+#include "spinmotor/viewer/undo_stack.hpp"
+
+namespace spinmotor::viewer {
+
+/// A motor as scene JSON: {"quaternion": [w, x, y, z], "translate": [tx, ty, tz]} (rotation about the
+/// origin, then translation; SCENE.md `pose`).
+nlohmann::json motor_to_json(const ga::Mot& m);
+
+class Session {
+ public:
+  /// A ".json" path is a scene (validated, deformer bound); anything else a mesh shown without deformer.
+  /// Throws Error naming the file and what is wrong.
+  static Session open(const std::filesystem::path& path);
+  Session(Session&&) noexcept;
+  Session& operator=(Session&&) noexcept;
+  ~Session();
+
+  const scene::Scene& scene() const { return scene_; }
+  const Mesh& rest() const { return scene_.mesh; }
+  bool has_deformer() const { return deformer_ != nullptr; }
+  double bind_ms() const { return bind_ms_; }
+  /// The names the pose may move (handles, keys, control points); empty without deformer.
+  const std::vector<std::string>& controls() const { return controls_; }
+  /// Rest vertices of the handle called `name` (empty if it is not a handle, e.g. an FFD control).
+  std::vector<int> handle_vertices(const std::string& name) const;
+
+  const scene::Pose& pose() const { return pose_; }
+  ga::Mot motor(const std::string& name) const { return pose_.motor(name); }
+  /// Sets one motor of the working pose (during a drag: no undo step yet). Error for an unknown control.
+  void set_motor(const std::string& name, const ga::Mot& m);
+  /// Records the working pose as one undo step (call when a drag ends).
+  void commit_pose();
+  bool undo();  ///< back to the previous committed pose
+  bool redo();
+  bool can_undo() const { return history_.can_undo(); }
+  bool can_redo() const { return history_.can_redo(); }
+
+  /// The deformer's positions for the working pose (recomputed when it changed; rest without deformer).
+  const Eigen::MatrixXd& posed();
+  double pose_ms() const { return pose_ms_; }  ///< time of the last pose()
+
+  /// The scene document with `pose` set to the working pose (and `frames` removed).
+  nlohmann::json scene_document() const;
+  /// Writes scene_document() atomically. Relative paths inside stay relative to the original scene's
+  /// directory, so the file should go next to it (or the mesh path be absolute).
+  void save_scene(const std::filesystem::path& path) const;
+
+ private:
+  Session() = default;
+  scene::Scene scene_;
+  std::unique_ptr<scene::SceneDeformer> deformer_;
+  std::vector<std::string> controls_;
+  scene::Pose pose_;
+  UndoStack<scene::Pose> history_{scene::Pose{}};
+  Eigen::MatrixXd V_;
+  bool dirty_ = true;
+  double bind_ms_ = 0, pose_ms_ = 0;
+};
+
+}  // namespace spinmotor::viewer

@@ -1,0 +1,108 @@
+#include "spinmotor/viewer/session.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+
+#include "spinmotor/error.hpp"
+#include "spinmotor/mesh/atomic_file.hpp"
+#include "spinmotor/mesh/io.hpp"
+
+namespace spinmotor::viewer {
+namespace {
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+nlohmann::json motor_to_json(const ga::Mot& m) {
+  const Eigen::Isometry3d iso = ga::to_isometry(m);
+  Eigen::Quaterniond q(iso.linear());
+  q.normalize();
+  if (q.w() < 0) q.coeffs() *= -1;
+  const Eigen::Vector3d t = iso.translation();
+  return {{"quaternion", {q.w(), q.x(), q.y(), q.z()}}, {"translate", {t.x(), t.y(), t.z()}}};
+}
+
+Session::Session(Session&&) noexcept = default;
+Session& Session::operator=(Session&&) noexcept = default;
+Session::~Session() = default;
+
+Session Session::open(const std::filesystem::path& path) {
+  Session s;
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".json") {
+    s.scene_ = scene::load_scene(path);
+    const auto t0 = std::chrono::steady_clock::now();
+    s.deformer_ = scene::bind_deformer(s.scene_);
+    s.bind_ms_ = ms_since(t0);
+    s.controls_ = s.deformer_->controls();
+    if (!s.scene_.frames.empty()) s.pose_ = s.scene_.frames.front();
+  } else {
+    s.scene_.file = path;
+    s.scene_.dir = path.parent_path();
+    s.scene_.mesh = read_mesh(path);
+    s.scene_.mesh_source = path.string();
+    s.scene_.doc = {{"mesh", path.filename().string()}};
+  }
+  s.pose_.path = "/pose";
+  s.history_ = UndoStack<scene::Pose>(s.pose_);
+  s.V_ = s.scene_.mesh.V;
+  return s;
+}
+
+std::vector<int> Session::handle_vertices(const std::string& name) const {
+  const int h = scene_.handle_index(name);
+  if (h < 0) return {};
+  const Eigen::VectorXi& v = scene_.handles[h].vertices;
+  return {v.data(), v.data() + v.size()};
+}
+
+void Session::set_motor(const std::string& name, const ga::Mot& m) {
+  if (std::find(controls_.begin(), controls_.end(), name) == controls_.end())
+    throw Error("viewer: no control named '" + name + "' in " + scene_.name());
+  pose_.motors[name] = m;
+  dirty_ = true;
+}
+
+void Session::commit_pose() { history_.push(pose_); }
+
+bool Session::undo() {
+  if (!history_.undo()) return false;
+  pose_ = history_.current();
+  dirty_ = true;
+  return true;
+}
+
+bool Session::redo() {
+  if (!history_.redo()) return false;
+  pose_ = history_.current();
+  dirty_ = true;
+  return true;
+}
+
+const Eigen::MatrixXd& Session::posed() {
+  if (dirty_ && deformer_) {
+    const auto t0 = std::chrono::steady_clock::now();
+    deformer_->pose(pose_, V_);
+    pose_ms_ = ms_since(t0);
+  }
+  dirty_ = false;
+  return V_;
+}
+
+nlohmann::json Session::scene_document() const {
+  nlohmann::json doc = scene_.doc;
+  doc.erase("frames");
+  nlohmann::json pose = nlohmann::json::object();
+  for (const auto& [name, m] : pose_.motors) pose[name] = motor_to_json(m);
+  if (!pose.empty() || doc.contains("pose")) doc["pose"] = pose;
+  return doc;
+}
+
+void Session::save_scene(const std::filesystem::path& path) const {
+  write_text_atomic(path, scene_document().dump(2) + "\n");
+}
+
+}  // namespace spinmotor::viewer
