@@ -15,6 +15,8 @@
 // nothing is removed.
 #include <Eigen/Core>
 
+#include "spinmotor/spin/face_dirac_operator.hpp"
+
 namespace spinmotor {
 
 struct DiracSpectrumOptions {
@@ -41,5 +43,17 @@ struct DiracSpectrum {
 /// defect. Error (numerical) if Spectra does not converge.
 DiracSpectrum dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::VectorXd& rho = {},
                              const DiracSpectrumOptions& options = {});
+
+/// Face-based operators (Ye et al. 2018, §4.3): the eigenvalues λ nearest zero of the generalized
+/// problem (26), Aᵀ D̂ M⁻¹ D̂ A φ = λ Aᵀ D̂ A φ, with D̂ = D − diag(ρ) the intrinsic (eq. 19) or extrinsic
+/// (eq. 13) operator of face_dirac_operator.hpp, A the 4m×4n face-from-vertex averaging and M the face
+/// areas; φ lives on vertices (4n). λ approximates the eigenvalues of the smooth operator: on the unit
+/// sphere the intrinsic one gives ±1 (×4 real), ±2 (×8), ±3 (×12), ... (§5.1). Same method and output as
+/// dirac_spectrum (eigenvectors: 4n×count vertex spinors; map them to faces with face_vertex_averaging).
+/// For the extrinsic operator with ρ ≡ 0 the constants (λ = 0) are removed and reported in
+/// constant_kernel. Inputs: V (n×3), F (m×3, counter-clockwise, manifold, oriented, connected; the
+/// left-hand side must be positive definite, else numerical Error), kind, rho (m or empty), options.
+DiracSpectrum face_dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, FaceDiracKind kind,
+                                  const Eigen::VectorXd& rho = {}, const DiracSpectrumOptions& options = {});
 
 }  // namespace spinmotor
