@@ -25,9 +25,11 @@ const cli::RegisterCommand reg{
       };
       auto a = std::make_shared<Args>();
       sub.add_option("MESH", a->mesh, "Mesh to draw (OBJ, OFF, PLY, STL)")->required();
-      sub.add_option("--rest", a->rest, "Rest mesh (same vertices and faces): Q of MESH against it (--color q)");
-      sub.add_option("--color", a->color, "q (quasi-conformal error vs --rest), checker (texture coordinates), "
-                                          "normals, plain")
+      sub.add_option("--rest", a->rest,
+                     "Rest mesh (same vertices and faces): Q of MESH against it (--color q)");
+      sub.add_option("--color", a->color,
+                     "q (quasi-conformal error vs --rest), checker (texture coordinates), "
+                     "normals, plain")
           ->check(CLI::IsMember({"q", "checker", "normals", "plain"}))
           ->capture_default_str();
       sub.add_option("--out", a->out, "Output PNG")->required();
@@ -38,19 +40,23 @@ const cli::RegisterCommand reg{
       sub.add_option("--up", a->up, "Up axis")->check(CLI::IsMember({"x", "y", "z"}))->capture_default_str();
       sub.add_flag("--flat", a->flat, "Flat shading (one normal per face)");
       sub.add_flag("--wireframe", a->wireframe, "Draw the edges");
-      sub.add_option("--q-range", a->q_range, "LO,HI: Q range of the colour map (log scale)")->capture_default_str();
+      sub.add_option("--q-range", a->q_range, "LO,HI: Q range of the colour map (log scale)")
+          ->capture_default_str();
       sub.add_option("--checker-cells", a->cells, "Checker cells per unit of texture coordinate")
           ->check(CLI::PositiveNumber)
           ->capture_default_str();
       sub.add_flag("--no-color-bar", a->no_bar, "No colour bar with --color q");
       sub.add_flag("-q,--quiet", a->quiet, "Print nothing on success");
-      sub.footer("Examples:\n  spinmotor render posed.obj --rest rest.obj --color q --out q.png --size 1024x768\n"
-                 "  spinmotor render spot.obj --color checker --camera 120,15 --out spot.png");
+      sub.footer(
+          "Examples:\n  spinmotor render posed.obj --rest rest.obj --color q --out q.png --size 1024x768\n"
+          "  spinmotor render spot.obj --color checker --camera 120,15 --out spot.png");
       sub.callback([a] {
         render::RenderOptions o;
         render::parse_size(a->size, o);
         if (!a->camera.empty()) render::parse_camera(a->camera, o);
-        o.up = a->up == "x" ? Eigen::Vector3d::UnitX() : a->up == "y" ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitZ();
+        o.up = a->up == "x"   ? Eigen::Vector3d::UnitX()
+               : a->up == "y" ? Eigen::Vector3d::UnitY()
+                              : Eigen::Vector3d::UnitZ();
         render::parse_q_range(a->q_range, o);
         o.style.color = a->color == "q"         ? render::ColorMode::Q
                         : a->color == "checker" ? render::ColorMode::Checker
@@ -69,9 +75,9 @@ const cli::RegisterCommand reg{
         const render::Image im = render::render_mesh(mesh, a->rest.empty() ? nullptr : &rest, o, &t);
         render::write_png(a->out, im);
         if (!a->quiet)
-          std::cout << "wrote " << a->out << " (" << o.width << "x" << o.height << ", " << mesh.V.rows() << " vertices, "
-                    << mesh.F.rows() << " faces) with " << t.backend << ": context " << t.context_ms << " ms, upload "
-                    << t.upload_ms << " ms, draw " << t.draw_ms << " ms\n";
+          std::cout << "wrote " << a->out << " (" << o.width << "x" << o.height << ", " << mesh.V.rows()
+                    << " vertices, " << mesh.F.rows() << " faces) with " << t.backend << ": context "
+                    << t.context_ms << " ms, upload " << t.upload_ms << " ms, draw " << t.draw_ms << " ms\n";
       });
     }};
 

@@ -2,7 +2,6 @@
 // disk the camera predicts, Q colouring of a twisted capsule vs its conformal snap, the checkerboard,
 // and `spinmotor render` (PNG written atomically, exit 2 without output on bad input).
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -66,7 +65,8 @@ double warm_fraction(const Image& im) {
 
 }  // namespace
 
-TEST_CASE("orbit camera: the target projects to the centre, pixel rays go through projected points", "[render]") {
+TEST_CASE("orbit camera: the target projects to the centre, pixel rays go through projected points",
+          "[render]") {
   OrbitCamera cam;
   cam.target = Vector3d(1, 2, 3);
   cam.distance = 5, cam.azimuth_deg = 40, cam.elevation_deg = 25;
@@ -111,10 +111,11 @@ TEST_CASE("a unit sphere in normal colours is the disk the camera predicts", "[r
   // Perspective silhouette of a unit sphere at distance 4: a cone of half-angle asin(1/4); its image
   // radius in pixels is (h/2) tan(asin(1/4)) / tan(fovy/2).
   const OrbitCamera cam = render_camera(sphere.V, o);
-  const double r = 0.5 * o.height * std::tan(std::asin(1.0 / 4.0)) / std::tan(0.5 * cam.fovy_deg * std::numbers::pi / 180);
+  const double r =
+      0.5 * o.height * std::tan(std::asin(1.0 / 4.0)) / std::tan(0.5 * cam.fovy_deg * std::numbers::pi / 180);
   const double r_measured = std::sqrt(d.area / std::numbers::pi);
-  std::printf("sphere silhouette: radius %.2f px (predicted %.2f), centre (%.2f, %.2f); %s\n", r_measured, r, d.cx,
-              d.cy, t.backend.c_str());
+  std::printf("sphere silhouette: radius %.2f px (predicted %.2f), centre (%.2f, %.2f); %s\n", r_measured, r,
+              d.cx, d.cy, t.backend.c_str());
   CHECK(std::abs(r_measured - r) < 1.5);
   CHECK(std::abs(d.cx - 150) < 0.5);
   CHECK(std::abs(d.cy - 120) < 0.5);
@@ -152,8 +153,8 @@ TEST_CASE("Q colouring of a twisted capsule turns blue after its conformal snap"
   o.style.q_min = 1.0, o.style.q_max = 1.3;
   const Image a = render_mesh(twisted, &rest, o), b = render_mesh(snapped, &rest, o);
   const double wa = warm_fraction(a), wb = warm_fraction(b);
-  std::printf("twisted capsule: Q_mean %.4f, warm pixels %.3f; snapped: Q_mean %.4f, warm pixels %.3f\n", q_twist, wa,
-              q_snap, wb);
+  std::printf("twisted capsule: Q_mean %.4f, warm pixels %.3f; snapped: Q_mean %.4f, warm pixels %.3f\n",
+              q_twist, wa, q_snap, wb);
   REQUIRE(q_twist > 1.05);
   REQUIRE(q_snap < 1.02);
   CHECK(wa > 0.5);
@@ -203,7 +204,8 @@ TEST_CASE("spinmotor render writes a PNG; bad input exits 2 without output", "[r
   t.V = twist_z(t.V, 60, -0.5, 2.5);
   write_mesh(dir / "twist.obj", t);
   auto run = [&](const std::string& args) {
-    const std::string cmd = std::string(SPINMOTOR_CLI) + " render " + args + " > " + (dir / "log.txt").string() + " 2>&1";
+    const std::string cmd =
+        std::string(SPINMOTOR_CLI) + " render " + args + " > " + (dir / "log.txt").string() + " 2>&1";
     const int status = std::system(cmd.c_str());
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   };

@@ -2,9 +2,8 @@
 // simulated mouse drag gives exactly the translation / rotation it should), undo/redo, the snap
 // worker's stale-result rule, the scene session (pose, undo, save), and — when the viewer is built
 // and xvfb-run exists — the viewer's headless screenshot under Xvfb checked pixel by pixel.
-#include <catch2/catch.hpp>
-
 #include <Eigen/Geometry>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -15,12 +14,12 @@
 #include "spinmotor/error.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
+#include "spinmotor/render/render_mesh.hpp"
 #include "spinmotor/viewer/gizmo.hpp"
 #include "spinmotor/viewer/picking.hpp"
 #include "spinmotor/viewer/session.hpp"
 #include "spinmotor/viewer/snap_worker.hpp"
 #include "spinmotor/viewer/undo_stack.hpp"
-#include "spinmotor/render/render_mesh.hpp"
 
 // stb_image (PNG only), private to this test.
 #define STB_IMAGE_STATIC
@@ -62,10 +61,13 @@ TEST_CASE("ray-triangle intersection: hit point, barycentrics, misses", "[viewer
   CHECK(h->t == Approx(3));
   CHECK(h->u == Approx(0.25));  // p = (1-u-v) a + u b + v c = (2u, 2v, 0)
   CHECK(h->v == Approx(0.125));
-  CHECK(intersect_ray_triangle({Vector3d(0.5, 0.25, 3), Vector3d(0, 0, 1)}, a, b, c) == std::nullopt);   // behind
-  CHECK(intersect_ray_triangle({Vector3d(1.5, 1.5, 3), Vector3d(0, 0, -1)}, a, b, c) == std::nullopt);   // outside
-  CHECK(intersect_ray_triangle({Vector3d(0.5, 0.25, 0), Vector3d(1, 0, 0)}, a, b, c) == std::nullopt);   // in plane
-  CHECK(intersect_ray_triangle({Vector3d(0.5, 0.25, -3), Vector3d(0, 0, 1)}, a, b, c));                  // back side
+  CHECK(intersect_ray_triangle({Vector3d(0.5, 0.25, 3), Vector3d(0, 0, 1)}, a, b, c) ==
+        std::nullopt);  // behind
+  CHECK(intersect_ray_triangle({Vector3d(1.5, 1.5, 3), Vector3d(0, 0, -1)}, a, b, c) ==
+        std::nullopt);  // outside
+  CHECK(intersect_ray_triangle({Vector3d(0.5, 0.25, 0), Vector3d(1, 0, 0)}, a, b, c) ==
+        std::nullopt);                                                                   // in plane
+  CHECK(intersect_ray_triangle({Vector3d(0.5, 0.25, -3), Vector3d(0, 0, 1)}, a, b, c));  // back side
 }
 
 TEST_CASE("picking the unit sphere returns the nearest surface point", "[viewer]") {
@@ -96,7 +98,8 @@ TEST_CASE("gizmo: dragging an axis translates by the mouse's travel along it", "
     CHECK((iso.translation() - (Vector3d(0.5, 0, 0) + 0.37 * Vector3d::Unit(axis))).norm() < 1e-9);
   }
   // Closest point parameter: a ray crossing the x axis at x = 2 from above.
-  CHECK(*axis_parameter({Vector3d(2, 0, 5), Vector3d(0, 0, -1)}, Vector3d::Zero(), Vector3d::UnitX()) == Approx(2));
+  CHECK(*axis_parameter({Vector3d(2, 0, 5), Vector3d(0, 0, -1)}, Vector3d::Zero(), Vector3d::UnitX()) ==
+        Approx(2));
   CHECK_FALSE(axis_parameter({Vector3d(2, 0, 5), Vector3d(1, 0, 0)}, Vector3d::Zero(), Vector3d::UnitX()));
 }
 
@@ -110,7 +113,8 @@ TEST_CASE("gizmo: dragging a ring rotates about the axis through the gizmo centr
     const auto m = simulated_drag(cam, 800, 600, GizmoMode::Rotate, axis, c, 0.5, start, 40.0);
     REQUIRE(m);
     // Expected: x ↦ R (S0 x − c) + c with R the 40° rotation about the axis.
-    const Eigen::Matrix3d R = Eigen::AngleAxisd(40 * std::numbers::pi / 180, Vector3d::Unit(axis)).toRotationMatrix();
+    const Eigen::Matrix3d R =
+        Eigen::AngleAxisd(40 * std::numbers::pi / 180, Vector3d::Unit(axis)).toRotationMatrix();
     for (const Vector3d& p : {Vector3d(0, 0, 0), Vector3d(1, -2, 0.5), Vector3d(-0.3, 0.7, 2)}) {
       const Vector3d expected = R * (s0 * p - c) + c;
       CHECK((apply(*m, p) - expected).norm() < 1e-9);
@@ -195,11 +199,13 @@ TEST_CASE("session: pose a handle, undo/redo, save the scene with the pose", "[v
   const Eigen::MatrixXd V0 = s.posed();
   const auto tip = s.handle_vertices("tip");
   REQUIRE_FALSE(tip.empty());
-  const ga::Mot m = ga::from_isometry(Eigen::Isometry3d(Eigen::Translation3d(0, 0, 0.5)) * ga::to_isometry(s.motor("tip")));
+  const ga::Mot m =
+      ga::from_isometry(Eigen::Isometry3d(Eigen::Translation3d(0, 0, 0.5)) * ga::to_isometry(s.motor("tip")));
   s.set_motor("tip", m);
   s.commit_pose();
   const Eigen::MatrixXd V1 = s.posed();
-  for (int i : tip) CHECK((V1.row(i) - V0.row(i) - Eigen::RowVector3d(0, 0, 0.5)).norm() < 1e-9);  // handles are exact
+  for (int i : tip)
+    CHECK((V1.row(i) - V0.row(i) - Eigen::RowVector3d(0, 0, 0.5)).norm() < 1e-9);  // handles are exact
   CHECK(s.undo());
   CHECK((s.posed() - V0).norm() < 1e-12);
   CHECK(s.redo());
@@ -238,7 +244,8 @@ double warm(const Image& im) {  // fraction of mesh pixels on the warm half of t
 }
 }  // namespace
 
-TEST_CASE("spinmotor-viewer headless under xvfb-run: a gizmo twist shows in Q, the snap removes it", "[viewer][xvfb]") {
+TEST_CASE("spinmotor-viewer headless under xvfb-run: a gizmo twist shows in Q, the snap removes it",
+          "[viewer][xvfb]") {
   if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0) {
     WARN("xvfb-run not found: skipping the viewer's headless screenshot test");
     return;
@@ -251,8 +258,8 @@ TEST_CASE("spinmotor-viewer headless under xvfb-run: a gizmo twist shows in Q, t
     const auto png = dir / name;
     const std::string cmd = "xvfb-run -a " + std::string(SPINMOTOR_VIEWER) + " --scene " + scene.string() +
                             " --screenshot " + png.string() +
-                            " --size 240x180 --color q --up z --camera 0,10 --gizmo tip,rotate,z,90 " + extra + " > " +
-                            (dir / (name + ".log")).string() + " 2>&1";
+                            " --size 240x180 --color q --up z --camera 0,10 --gizmo tip,rotate,z,90 " +
+                            extra + " > " + (dir / (name + ".log")).string() + " 2>&1";
     REQUIRE(std::system(cmd.c_str()) == 0);
     return png;
   };
@@ -269,7 +276,8 @@ TEST_CASE("spinmotor-viewer headless under xvfb-run: a gizmo twist shows in Q, t
   o.style.color = render::ColorMode::Q;
   const render::OrbitCamera cam = render::render_camera(s.rest().V, o);
   const ga::Mot m0 = s.motor("tip");
-  const auto m = simulated_drag(cam, 240, 180, GizmoMode::Rotate, 2, posed_centroid(s.rest().V, s.handle_vertices("tip"), m0),
+  const auto m = simulated_drag(cam, 240, 180, GizmoMode::Rotate, 2,
+                                posed_centroid(s.rest().V, s.handle_vertices("tip"), m0),
                                 0.25 * cam.scene_radius, m0, 90.0);
   REQUIRE(m);
   s.set_motor("tip", *m);

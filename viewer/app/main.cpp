@@ -13,14 +13,14 @@
 // the offscreen EGL/OSMesa context) and exits. --gizmo poses a handle through the gizmo's own code
 // path (viewer/core/gizmo.hpp: a press ray and a release ray through the camera). --frames N poses and
 // uploads N frames (a rotation growing through the gizmo code path) and prints the frame timer.
-#include "spinmotor/render/gl_api.hpp"  // <GL/glcorearb.h> before GLFW (which then includes no GL header)
-
 #include <CLI/CLI.hpp>
+
+#include "spinmotor/render/gl_api.hpp"  // <GL/glcorearb.h> before GLFW (which then includes no GL header)
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
-#include <imgui.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -54,7 +54,9 @@ using namespace spinmotor;
 using namespace spinmotor::viewer;
 using Clock = std::chrono::steady_clock;
 
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 
 void* glfw_proc(const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); }
 
@@ -70,7 +72,8 @@ GizmoSpec parse_gizmo(const std::string& s) {
   std::stringstream in(s);
   for (std::string item; std::getline(in, item, ',');) p.push_back(item);
   const std::string usage = "--gizmo: expected NAME,translate|rotate,x|y|z,AMOUNT, got '" + s + "'";
-  if (p.size() != 4 || (p[1] != "translate" && p[1] != "rotate") || p[2].size() != 1 || p[2][0] < 'x' || p[2][0] > 'z')
+  if (p.size() != 4 || (p[1] != "translate" && p[1] != "rotate") || p[2].size() != 1 || p[2][0] < 'x' ||
+      p[2][0] > 'z')
     throw Error(usage);
   GizmoSpec g;
   g.handle = p[0];
@@ -95,14 +98,17 @@ ga::Mot simulate_drag(const Session& s, const render::OrbitCamera& cam, int w, i
   const ga::Mot m0 = s.motor(g.handle);
   const Eigen::Vector3d c = posed_centroid(s.rest().V, verts, m0);
   const auto m = simulated_drag(cam, w, h, g.mode, g.axis, c, 0.25 * cam.scene_radius, m0, g.amount);
-  if (!m) throw Error("--gizmo: the camera looks along the " + std::string(1, char('x' + g.axis)) + " axis; pick another");
+  if (!m)
+    throw Error("--gizmo: the camera looks along the " + std::string(1, char('x' + g.axis)) +
+                " axis; pick another");
   return *m;
 }
 
 render::ColorMode parse_color(const std::string& c) {
-  return c == "q" ? render::ColorMode::Q : c == "checker" ? render::ColorMode::Checker
-                                        : c == "normals"   ? render::ColorMode::Normals
-                                                           : render::ColorMode::Plain;
+  return c == "q"         ? render::ColorMode::Q
+         : c == "checker" ? render::ColorMode::Checker
+         : c == "normals" ? render::ColorMode::Normals
+                          : render::ColorMode::Plain;
 }
 
 struct Args {
@@ -143,7 +149,8 @@ int run_headless(const Args& a) {
     worker.wait_idle(600);
     auto r = worker.take();
     if (!r || !r->error.empty()) throw Error("snap failed: " + (r ? r->error : std::string("no result")));
-    std::printf("snap: Q_mean %.4f -> %.4f (bind %.0f ms, snap %.0f ms)\n", q_edit, r->q_mean, r->bind_ms, r->snap_ms);
+    std::printf("snap: Q_mean %.4f -> %.4f (bind %.0f ms, snap %.0f ms)\n", q_edit, r->q_mean, r->bind_ms,
+                r->snap_ms);
     V = r->V;
   } else {
     std::printf("Q_mean %.4f\n", q_edit);
@@ -178,7 +185,8 @@ int run_headless(const Args& a) {
     Mesh shown = s.rest();
     renderer.set_mesh(shown);
     renderer.set_positions(V);
-    if (o.style.color == render::ColorMode::Q) renderer.set_face_values(quasi_conformal_error(s.rest().V, s.rest().F, V));
+    if (o.style.color == render::ColorMode::Q)
+      renderer.set_face_values(quasi_conformal_error(s.rest().V, s.rest().F, V));
     fb.bind();
     if (a.frames > 0) {
       // The frame timer: pose (deformer) + upload (normals, float conversion, buffer update) + draw.
@@ -186,9 +194,11 @@ int run_headless(const Args& a) {
       if (h.empty() || s.handle_vertices(h).empty()) throw Error("--frames needs a scene with a handle");
       std::vector<double> pose_ms, upload_ms, draw_ms, frame_ms;
       const ga::Mot m0 = s.motor(h);
+      int axis = 0;  // the ring that faces the camera best
+      (cam.eye() - cam.target).cwiseAbs().maxCoeff(&axis);
       for (int f = 0; f < a.frames; ++f) {
         const auto t0 = Clock::now();
-        GizmoSpec g{h, GizmoMode::Rotate, 0, 30.0 * (f + 1) / a.frames};
+        GizmoSpec g{h, GizmoMode::Rotate, axis, 30.0 * (f + 1) / a.frames};
         s.set_motor(h, m0);
         s.set_motor(h, simulate_drag(s, cam, o.width, o.height, g));
         const Eigen::MatrixXd& Vf = s.posed();
@@ -206,19 +216,21 @@ int run_headless(const Args& a) {
         std::sort(v.begin(), v.end());
         return v[v.size() / 2];
       };
-      std::printf("frame timer over %d frames (%s, %dx%d): pose %.2f ms, upload %.2f ms, pose+upload %.2f ms, "
-                  "draw %.2f ms, frame %.2f ms (medians)\n",
-                  a.frames, backend.c_str(), o.width, o.height, median(pose_ms), median(upload_ms),
-                  [&] {
-                    std::vector<double> pu(pose_ms.size());
-                    for (std::size_t i = 0; i < pu.size(); ++i) pu[i] = pose_ms[i] + upload_ms[i];
-                    return median(pu);
-                  }(),
-                  median(draw_ms), median(frame_ms));
+      std::printf(
+          "frame timer over %d frames (%s, %dx%d): pose %.2f ms, upload %.2f ms, pose+upload %.2f ms, "
+          "draw %.2f ms, frame %.2f ms (medians)\n",
+          a.frames, backend.c_str(), o.width, o.height, median(pose_ms), median(upload_ms),
+          [&] {
+            std::vector<double> pu(pose_ms.size());
+            for (std::size_t i = 0; i < pu.size(); ++i) pu[i] = pose_ms[i] + upload_ms[i];
+            return median(pu);
+          }(),
+          median(draw_ms), median(frame_ms));
     }
     renderer.draw(shot, o.width, o.height, o.style);
     render::Image im = fb.read();
-    if (o.style.color == render::ColorMode::Q && o.color_bar) render::draw_color_bar(im, o.style.q_min, o.style.q_max);
+    if (o.style.color == render::ColorMode::Q && o.color_bar)
+      render::draw_color_bar(im, o.style.q_min, o.style.q_max);
     render::write_png(a.screenshot, im);
     std::printf("wrote %s (%dx%d, %s)\n", a.screenshot.c_str(), o.width, o.height, backend.c_str());
   }
@@ -284,7 +296,8 @@ void draw_gizmo_and_handle_input(Viewer& v, int w, int h) {
   const auto verts = v.session.handle_vertices(name);
   const ImVec2 mouse = io.MousePos;
   const render::Ray ray = v.cam.pixel_ray(mouse.x, mouse.y, w, h);
-  const ImU32 colours[3] = {IM_COL32(220, 50, 50, 255), IM_COL32(50, 180, 50, 255), IM_COL32(60, 90, 230, 255)};
+  const ImU32 colours[3] = {IM_COL32(220, 50, 50, 255), IM_COL32(50, 180, 50, 255),
+                            IM_COL32(60, 90, 230, 255)};
   int hover_axis = -1;
   if (!verts.empty()) {
     const Eigen::Vector3d c = posed_centroid(v.session.rest().V, verts, v.session.motor(name));
@@ -309,7 +322,8 @@ void draw_gizmo_and_handle_input(Viewer& v, int w, int h) {
       for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
         const ImVec2 p = pts[i], q = pts[i + 1];
         const float dx = q.x - p.x, dy = q.y - p.y, len2 = dx * dx + dy * dy;
-        const float t = len2 > 0 ? std::clamp(((mouse.x - p.x) * dx + (mouse.y - p.y) * dy) / len2, 0.0f, 1.0f) : 0;
+        const float t =
+            len2 > 0 ? std::clamp(((mouse.x - p.x) * dx + (mouse.y - p.y) * dy) / len2, 0.0f, 1.0f) : 0;
         const double d = std::hypot(mouse.x - (p.x + t * dx), mouse.y - (p.y + t * dy));
         if (d < best) best = d, hover_axis = k;
       }
@@ -347,13 +361,14 @@ void panel(Viewer& v, GLFWwindow* window, int w, int h) {
   ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
   ImGui::Begin("spinmotor");
-  ImGui::Text("%s: %lld vertices, %lld faces", v.session.scene().name().c_str(), (long long)v.session.rest().V.rows(),
-              (long long)v.session.rest().F.rows());
+  ImGui::Text("%s: %lld vertices, %lld faces", v.session.scene().name().c_str(),
+              (long long)v.session.rest().V.rows(), (long long)v.session.rest().F.rows());
   ImGui::Text("frame %.1f ms", v.frame_ms);
   if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) {
     int mode = int(v.style.color);
     const char* modes[] = {"normals", "checker", "Q (quasi-conformal error)", "plain"};
-    if (ImGui::Combo("colour", &mode, modes, 4)) v.style.color = render::ColorMode(mode), v.geometry_dirty = true;
+    if (ImGui::Combo("colour", &mode, modes, 4))
+      v.style.color = render::ColorMode(mode), v.geometry_dirty = true;
     ImGui::Checkbox("smooth", &v.style.smooth);
     ImGui::SameLine();
     ImGui::Checkbox("wireframe", &v.style.wireframe);
@@ -377,8 +392,8 @@ void panel(Viewer& v, GLFWwindow* window, int w, int h) {
     }
   }
   if (v.session.has_deformer() && ImGui::CollapsingHeader("Pose", ImGuiTreeNodeFlags_DefaultOpen)) {
-    ImGui::Text("deformer %s: bind %.0f ms, pose %.2f ms", v.session.scene().deformer_type.c_str(), v.session.bind_ms(),
-                v.session.pose_ms());
+    ImGui::Text("deformer %s: bind %.0f ms, pose %.2f ms", v.session.scene().deformer_type.c_str(),
+                v.session.bind_ms(), v.session.pose_ms());
     const auto& c = v.session.controls();
     if (ImGui::BeginListBox("handles", ImVec2(-1, 90))) {
       for (int i = 0; i < int(c.size()); ++i)
@@ -410,7 +425,8 @@ void panel(Viewer& v, GLFWwindow* window, int w, int h) {
     ImGui::SameLine();
     if (ImGui::Checkbox("show snap", &v.show_snap)) v.geometry_dirty = true;
     ImGui::Text("Q_mean edit %.4f", v.q_edit);
-    if (v.worker && v.worker->busy()) ImGui::Text("snapping...");
+    if (v.worker && v.worker->busy())
+      ImGui::Text("snapping...");
     else if (v.snapped && v.snapped->error.empty())
       ImGui::Text("Q_mean snap %.4f (%.0f ms)", v.snapped->q_mean, v.snapped->snap_ms);
     else if (v.snapped)
@@ -484,7 +500,8 @@ int run_window(const Args& a) {
     if (v.session.has_deformer()) v.worker = std::make_unique<SnapWorker>(v.session.rest());
     v.tradeoff = a.tradeoff;
     const std::string stem = v.session.scene().file.stem().string();
-    std::snprintf(v.save_path, sizeof v.save_path, "%s", (v.session.scene().dir / (stem + "-edited.json")).c_str());
+    std::snprintf(v.save_path, sizeof v.save_path, "%s",
+                  (v.session.scene().dir / (stem + "-edited.json")).c_str());
     std::snprintf(v.export_path, sizeof v.export_path, "%s", (stem + "-posed.obj").c_str());
     while (!glfwWindowShouldClose(window)) {
       const auto t0 = Clock::now();
@@ -501,9 +518,12 @@ int run_window(const Args& a) {
       }
       ImGuiIO& io = ImGui::GetIO();
       if (!io.WantCaptureKeyboard) {
-        if (ImGui::IsKeyPressed(GLFW_KEY_R)) v.gizmo_mode = v.gizmo_mode == GizmoMode::Rotate ? GizmoMode::Translate : GizmoMode::Rotate;
-        if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Z) && v.session.undo()) v.geometry_dirty = true, v.request_snap();
-        if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Y) && v.session.redo()) v.geometry_dirty = true, v.request_snap();
+        if (ImGui::IsKeyPressed(GLFW_KEY_R))
+          v.gizmo_mode = v.gizmo_mode == GizmoMode::Rotate ? GizmoMode::Translate : GizmoMode::Rotate;
+        if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Z) && v.session.undo())
+          v.geometry_dirty = true, v.request_snap();
+        if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Y) && v.session.redo())
+          v.geometry_dirty = true, v.request_snap();
       }
       if (v.worker)
         if (auto r = v.worker->take()) {
@@ -549,8 +569,11 @@ int main(int argc, char** argv) {
   app.add_option("--gizmo", a.gizmos, "Headless: NAME,translate|rotate,x|y|z,AMOUNT: drag a handle's gizmo")
       ->take_all();
   app.add_flag("--snap", a.snap, "Headless: show the conformal snap of the posed mesh");
-  app.add_option("--tradeoff", a.tradeoff, "Snap tradeoff in [0, 1]")->check(CLI::Range(0.0, 1.0))->capture_default_str();
-  app.add_option("--frames", a.frames, "Headless: pose + upload + draw this many frames and print the frame timer")
+  app.add_option("--tradeoff", a.tradeoff, "Snap tradeoff in [0, 1]")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app.add_option("--frames", a.frames,
+                 "Headless: pose + upload + draw this many frames and print the frame timer")
       ->check(CLI::NonNegativeNumber);
   try {
     app.parse(argc, argv);
@@ -560,7 +583,8 @@ int main(int argc, char** argv) {
   try {
     if (a.doc.empty()) throw Error("a scene or mesh file is required (spinmotor-viewer SCENE.json | MESH)");
     if (!a.screenshot.empty()) return run_headless(a);
-    if (a.snap || !a.gizmos.empty() || a.frames > 0) throw Error("--gizmo, --snap and --frames need --screenshot");
+    if (a.snap || !a.gizmos.empty() || a.frames > 0)
+      throw Error("--gizmo, --snap and --frames need --screenshot");
     return run_window(a);
   } catch (const Error& e) {
     std::cerr << "spinmotor-viewer: error: " << e.what() << "\n";

@@ -7,7 +7,8 @@
 
 namespace spinmotor::viewer {
 
-std::optional<double> axis_parameter(const render::Ray& ray, const Eigen::Vector3d& centre, const Eigen::Vector3d& axis) {
+std::optional<double> axis_parameter(const render::Ray& ray, const Eigen::Vector3d& centre,
+                                     const Eigen::Vector3d& axis) {
   // Closest points of the lines centre + s a and o + t d: solve the 2×2 normal equations.
   const Eigen::Vector3d a = axis.normalized(), d = ray.direction.normalized(), w = centre - ray.origin;
   const double b = a.dot(d), den = 1 - b * b;
@@ -15,7 +16,8 @@ std::optional<double> axis_parameter(const render::Ray& ray, const Eigen::Vector
   return (b * d.dot(w) - a.dot(w)) / den;
 }
 
-std::optional<double> ring_angle(const render::Ray& ray, const Eigen::Vector3d& centre, const Eigen::Vector3d& axis) {
+std::optional<double> ring_angle(const render::Ray& ray, const Eigen::Vector3d& centre,
+                                 const Eigen::Vector3d& axis) {
   const Eigen::Vector3d a = axis.normalized();
   const double dn = ray.direction.dot(a);
   if (std::abs(dn) < 1e-9) return std::nullopt;
@@ -32,7 +34,8 @@ GizmoDrag begin_drag(GizmoMode mode, int axis_index, const Eigen::Vector3d& cent
   d.centre = centre;
   d.axis = Eigen::Vector3d::Unit(std::clamp(axis_index, 0, 2));
   d.start = start;
-  const auto v = mode == GizmoMode::Translate ? axis_parameter(ray, centre, d.axis) : ring_angle(ray, centre, d.axis);
+  const auto v =
+      mode == GizmoMode::Translate ? axis_parameter(ray, centre, d.axis) : ring_angle(ray, centre, d.axis);
   d.valid = v.has_value();
   d.start_value = v.value_or(0);
   return d;
@@ -56,8 +59,9 @@ ga::Mot drag_motor(const GizmoDrag& drag, const render::Ray& ray) {
   return ga::from_isometry(D * ga::to_isometry(drag.start));
 }
 
-std::optional<ga::Mot> simulated_drag(const render::OrbitCamera& cam, int w, int h, GizmoMode mode, int axis_index,
-                                      const Eigen::Vector3d& c, double radius, const ga::Mot& start, double amount) {
+std::optional<ga::Mot> simulated_drag(const render::OrbitCamera& cam, int w, int h, GizmoMode mode,
+                                      int axis_index, const Eigen::Vector3d& c, double radius,
+                                      const ga::Mot& start, double amount) {
   const Eigen::Vector3d a = Eigen::Vector3d::Unit(std::clamp(axis_index, 0, 2));
   auto ray_through = [&](const Eigen::Vector3d& p) {
     const Eigen::Vector3d px = cam.project(p, w, h);
@@ -78,7 +82,8 @@ std::optional<ga::Mot> simulated_drag(const render::OrbitCamera& cam, int w, int
   return drag_motor(d, ray_through(release));
 }
 
-Eigen::Vector3d posed_centroid(const Eigen::MatrixXd& V_rest, const std::vector<int>& vertices, const ga::Mot& m) {
+Eigen::Vector3d posed_centroid(const Eigen::MatrixXd& V_rest, const std::vector<int>& vertices,
+                               const ga::Mot& m) {
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
   if (vertices.empty()) return c;
   for (int i : vertices) c += V_rest.row(i).transpose();

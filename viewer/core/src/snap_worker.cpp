@@ -56,7 +56,8 @@ bool SnapWorker::busy() const {
 
 bool SnapWorker::wait_idle(double timeout_s) {
   std::unique_lock lock(mutex_);
-  return idle_cv_.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] { return !running_ && !queued_; });
+  return idle_cv_.wait_for(lock, std::chrono::duration<double>(timeout_s),
+                           [&] { return !running_ && !queued_; });
 }
 
 std::uint64_t SnapWorker::discarded() const {

@@ -25,7 +25,8 @@ Framebuffer::Framebuffer(int width, int height, int samples) : width_(width), he
   gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_DEPTH_COMPONENT24, width, height);
   gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, rb_[1]);
   if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw Error("OpenGL: incomplete multisampled framebuffer of " + std::to_string(width) + "x" + std::to_string(height));
+    throw Error("OpenGL: incomplete multisampled framebuffer of " + std::to_string(width) + "x" +
+                std::to_string(height));
   gl.BindFramebuffer(GL_FRAMEBUFFER, fbo_resolve_);
   gl.BindRenderbuffer(GL_RENDERBUFFER, rb_[2]);
   gl.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
@@ -54,11 +55,11 @@ Image Framebuffer::read() {
   std::vector<std::uint8_t> bottom_up(std::size_t(width_) * height_ * 4);
   gl.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, bottom_up.data());
   gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
-  if (const GLenum e = gl.GetError(); e != GL_NO_ERROR) throw Error("OpenGL error " + std::to_string(e) + " while rendering");
+  if (const GLenum e = gl.GetError(); e != GL_NO_ERROR)
+    throw Error("OpenGL error " + std::to_string(e) + " while rendering");
   im.rgba.resize(bottom_up.size());
   const std::size_t row = std::size_t(width_) * 4;
-  for (int y = 0; y < height_; ++y)
-    std::copy_n(&bottom_up[(height_ - 1 - y) * row], row, &im.rgba[y * row]);
+  for (int y = 0; y < height_; ++y) std::copy_n(&bottom_up[(height_ - 1 - y) * row], row, &im.rgba[y * row]);
   return im;
 }
 

@@ -10,8 +10,8 @@ GlApi gl;
 
 void load_gl(GetProcAddress get) {
   GlApi api;
-#define SPINMOTOR_GL_LOAD(type, name)                                                        \
-  api.name = reinterpret_cast<type>(get("gl" #name));                                         \
+#define SPINMOTOR_GL_LOAD(type, name)                 \
+  api.name = reinterpret_cast<type>(get("gl" #name)); \
   if (!api.name) throw Error("OpenGL: the context does not provide gl" #name " (OpenGL 3.3 core needed)");
   SPINMOTOR_GL_FUNCTIONS(SPINMOTOR_GL_LOAD)
 #undef SPINMOTOR_GL_LOAD
@@ -20,7 +20,8 @@ void load_gl(GetProcAddress get) {
   api.GetIntegerv(GL_MINOR_VERSION, &minor);
   if (major * 10 + minor < 33) {
     const char* v = reinterpret_cast<const char*>(api.GetString(GL_VERSION));
-    throw Error("OpenGL: version " + std::string(v ? v : "?") + " is older than the 3.3 core the renderer needs");
+    throw Error("OpenGL: version " + std::string(v ? v : "?") +
+                " is older than the 3.3 core the renderer needs");
   }
   gl = api;
 }

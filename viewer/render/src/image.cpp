@@ -88,13 +88,15 @@ void draw_color_bar(Image& image, double q_min, double q_max, const std::string&
 }
 
 void write_png(const std::filesystem::path& path, const Image& image) {
-  if (image.width <= 0 || image.height <= 0 || image.rgba.size() != std::size_t(image.width) * image.height * 4)
+  if (image.width <= 0 || image.height <= 0 ||
+      image.rgba.size() != std::size_t(image.width) * image.height * 4)
     throw Error("write_png: " + path.string() + ": empty or inconsistent image");
   AtomicFile out(path);
   auto sink = [](void* ctx, void* data, int size) {
     static_cast<std::ofstream*>(ctx)->write(static_cast<const char*>(data), size);
   };
-  if (!stbi_write_png_to_func(sink, &out.stream(), image.width, image.height, 4, image.rgba.data(), image.width * 4))
+  if (!stbi_write_png_to_func(sink, &out.stream(), image.width, image.height, 4, image.rgba.data(),
+                              image.width * 4))
     throw Error("write_png: " + path.string() + ": PNG encoding failed");
   out.commit();
 }

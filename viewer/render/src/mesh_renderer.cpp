@@ -82,7 +82,7 @@ void main() {
   }
   if (u_wire != 0) {
     float d = min(f_edge.x, min(f_edge.y, f_edge.z));
-    c = mix(vec3(0.08), c, smoothstep(0.5, 1.5, d));
+    c = mix(vec3(0.12), c, smoothstep(0.0, 1.0, d));  // about one pixel wide
   }
   o_color = vec4(c, 1.0);
 })";
@@ -137,7 +137,8 @@ MeshRenderer::MeshRenderer() {
   gl.GenVertexArrays(1, &vao_);
   unsigned buffers[6];
   gl.GenBuffers(6, buffers);
-  vbo_pos_ = buffers[0], vbo_nrm_ = buffers[1], vbo_uv_ = buffers[2], vbo_rest_ = buffers[3], ebo_ = buffers[4];
+  vbo_pos_ = buffers[0], vbo_nrm_ = buffers[1], vbo_uv_ = buffers[2], vbo_rest_ = buffers[3],
+  ebo_ = buffers[4];
   face_buffer_ = buffers[5];
   unsigned textures[2];
   gl.GenTextures(2, textures);
@@ -174,8 +175,8 @@ void MeshRenderer::set_mesh(const Mesh& mesh) {
   for (Eigen::Index f = 0; f < m; ++f)
     for (int c = 0; c < 3; ++c)
       if (mesh.F(f, c) < 0 || mesh.F(f, c) >= n)
-        throw Error("MeshRenderer: face " + std::to_string(f) + " has vertex index " + std::to_string(mesh.F(f, c)) +
-                    " out of range [0, " + std::to_string(n) + ")");
+        throw Error("MeshRenderer: face " + std::to_string(f) + " has vertex index " +
+                    std::to_string(mesh.F(f, c)) + " out of range [0, " + std::to_string(n) + ")");
   has_uv_ = mesh.UV.rows() > 0 && mesh.FUV.rows() == m && mesh.FUV.cols() == 3;
   if (mesh.UV.rows() > 0 && !has_uv_) throw Error("MeshRenderer: FUV does not have one row per face");
   n_ = n, m_ = m, F_ = mesh.F;
@@ -190,8 +191,10 @@ void MeshRenderer::set_mesh(const Mesh& mesh) {
       for (int c = 0; c < 3; ++c) {
         const int v = mesh.F(f, c), t = mesh.FUV(f, c);
         if (t < 0 || t >= mesh.UV.rows())
-          throw Error("MeshRenderer: face " + std::to_string(f) + " has UV index " + std::to_string(t) + " out of range");
-        auto [it, inserted] = id.try_emplace(std::int64_t(v) * mesh.UV.rows() + t, std::uint32_t(source_vertex_.size()));
+          throw Error("MeshRenderer: face " + std::to_string(f) + " has UV index " + std::to_string(t) +
+                      " out of range");
+        auto [it, inserted] =
+            id.try_emplace(std::int64_t(v) * mesh.UV.rows() + t, std::uint32_t(source_vertex_.size()));
         if (inserted) {
           source_vertex_.push_back(v);
           uv.push_back(float(mesh.UV(t, 0)));
@@ -214,7 +217,8 @@ void MeshRenderer::set_mesh(const Mesh& mesh) {
     for (int k = 0; k < 3; ++k) rest.push_back(float((mesh.V(v, k) - lo[k]) / diagonal_));
 
   gl.BindVertexArray(vao_);
-  auto attribute = [](unsigned vbo, int location, int size, const std::vector<float>* data, std::size_t count) {
+  auto attribute = [](unsigned vbo, int location, int size, const std::vector<float>* data,
+                      std::size_t count) {
     gl.BindBuffer(GL_ARRAY_BUFFER, vbo);
     gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(count * size * sizeof(float)), data ? data->data() : nullptr,
                   data ? GL_STATIC_DRAW : GL_DYNAMIC_DRAW);
@@ -254,7 +258,8 @@ void MeshRenderer::set_positions(const Eigen::MatrixXd& V) {
 
 void MeshRenderer::set_face_values(const Eigen::VectorXd& values) {
   if (values.size() != m_)
-    throw Error("MeshRenderer: " + std::to_string(values.size()) + " face values for " + std::to_string(m_) + " faces");
+    throw Error("MeshRenderer: " + std::to_string(values.size()) + " face values for " + std::to_string(m_) +
+                " faces");
   std::vector<float> v(values.size());
   for (Eigen::Index f = 0; f < values.size(); ++f) v[f] = float(values[f]);  // +inf stays +inf
   gl.BindBuffer(GL_TEXTURE_BUFFER, face_buffer_);
@@ -278,8 +283,10 @@ void MeshRenderer::draw(const OrbitCamera& camera, int width, int height, const 
   gl.Uniform2f(uniform(program_, "u_viewport"), float(width), float(height));
   const Eigen::Vector3f eye = camera.eye().cast<float>();
   gl.Uniform3f(uniform(program_, "u_eye"), eye.x(), eye.y(), eye.z());
-  const int mode = style.color == ColorMode::Normals ? 0 : style.color == ColorMode::Checker ? 1
-                   : style.color == ColorMode::Q     ? 2 : 3;
+  const int mode = style.color == ColorMode::Normals   ? 0
+                   : style.color == ColorMode::Checker ? 1
+                   : style.color == ColorMode::Q       ? 2
+                                                       : 3;
   gl.Uniform1i(uniform(program_, "u_mode"), mode);
   gl.Uniform1i(uniform(program_, "u_smooth"), style.smooth ? 1 : 0);
   gl.Uniform1i(uniform(program_, "u_wire"), style.wireframe ? 1 : 0);

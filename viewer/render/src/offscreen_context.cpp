@@ -74,7 +74,8 @@ struct OffscreenContext::Impl {
   std::string try_egl(bool surfaceless) {
     const char* client_ext = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     if (surfaceless) {
-      if (!has_extension(client_ext, "EGL_MESA_platform_surfaceless")) return "no EGL_MESA_platform_surfaceless";
+      if (!has_extension(client_ext, "EGL_MESA_platform_surfaceless"))
+        return "no EGL_MESA_platform_surfaceless";
       auto get_platform_display =
           reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
       if (!get_platform_display) return "no eglGetPlatformDisplayEXT";
@@ -94,8 +95,13 @@ struct OffscreenContext::Impl {
     EGLConfig config;
     EGLint count = 0;
     if (!eglChooseConfig(display, config_attribs, &config, 1, &count) || count < 1) return "no OpenGL config";
-    const EGLint ctx_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
-                                  EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+    const EGLint ctx_attribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                  3,
+                                  EGL_CONTEXT_MINOR_VERSION,
+                                  3,
+                                  EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                  EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                  EGL_NONE};
     context = eglCreateContext(display, config, EGL_NO_CONTEXT, ctx_attribs);
     if (context == EGL_NO_CONTEXT) return "no OpenGL 3.3 core context";
     if (!surfaceless) {
@@ -111,16 +117,29 @@ struct OffscreenContext::Impl {
     osmesa_lib = dlopen("libOSMesa.so.8", RTLD_NOW | RTLD_LOCAL);
     if (!osmesa_lib) osmesa_lib = dlopen("libOSMesa.so", RTLD_NOW | RTLD_LOCAL);
     if (!osmesa_lib) return "libOSMesa not found";
-    auto create = reinterpret_cast<OSMesaCreateContextAttribsFn>(dlsym(osmesa_lib, "OSMesaCreateContextAttribs"));
+    auto create =
+        reinterpret_cast<OSMesaCreateContextAttribsFn>(dlsym(osmesa_lib, "OSMesaCreateContextAttribs"));
     auto make_current = reinterpret_cast<OSMesaMakeCurrentFn>(dlsym(osmesa_lib, "OSMesaMakeCurrent"));
     g_osmesa_get = reinterpret_cast<OSMesaGetProcAddressFn>(dlsym(osmesa_lib, "OSMesaGetProcAddress"));
     if (!create || !make_current || !g_osmesa_get) return "libOSMesa lacks OSMesaCreateContextAttribs";
-    const int attribs[] = {kOsmesaFormat, kOsmesaRgba, kOsmesaDepthBits, 24, kOsmesaStencilBits, 0, kOsmesaProfile,
-                           kOsmesaCoreProfile, kOsmesaMajor, 3, kOsmesaMinor, 3, 0};
+    const int attribs[] = {kOsmesaFormat,
+                           kOsmesaRgba,
+                           kOsmesaDepthBits,
+                           24,
+                           kOsmesaStencilBits,
+                           0,
+                           kOsmesaProfile,
+                           kOsmesaCoreProfile,
+                           kOsmesaMajor,
+                           3,
+                           kOsmesaMinor,
+                           3,
+                           0};
     osmesa = create(attribs, nullptr);
     if (!osmesa) return "no OpenGL 3.3 core context";
     osmesa_buffer.assign(16 * 16 * 4, 0);
-    if (!make_current(osmesa, osmesa_buffer.data(), kGlUnsignedByte, 16, 16)) return "OSMesaMakeCurrent failed";
+    if (!make_current(osmesa, osmesa_buffer.data(), kGlUnsignedByte, 16, 16))
+      return "OSMesaMakeCurrent failed";
     return "";
   }
 };
@@ -146,10 +165,17 @@ OffscreenContext::OffscreenContext() : impl_(std::make_unique<Impl>()) {
     impl_->release();
     return false;
   };
-  if (attempt("egl-surfaceless", [&] { return impl_->try_egl(true); }, egl_get)) return;
-  if (attempt("egl-pbuffer", [&] { return impl_->try_egl(false); }, egl_get)) return;
-  if (attempt("osmesa", [&] { return impl_->try_osmesa(); }, osmesa_get)) return;
-  throw Error("no offscreen OpenGL 3.3 context: " + (why.empty() ? "SPINMOTOR_GL_BACKEND=" + force + " unknown" : why));
+  if (attempt(
+          "egl-surfaceless", [&] { return impl_->try_egl(true); }, egl_get))
+    return;
+  if (attempt(
+          "egl-pbuffer", [&] { return impl_->try_egl(false); }, egl_get))
+    return;
+  if (attempt(
+          "osmesa", [&] { return impl_->try_osmesa(); }, osmesa_get))
+    return;
+  throw Error("no offscreen OpenGL 3.3 context: " +
+              (why.empty() ? "SPINMOTOR_GL_BACKEND=" + force + " unknown" : why));
 }
 
 OffscreenContext::~OffscreenContext() = default;

@@ -25,7 +25,8 @@ Eigen::Vector3d OrbitCamera::eye() const {
   Eigen::Vector3d a, b;
   ground_basis(up, a, b);
   const double el = std::clamp(elevation_deg, -89.9, 89.9) * kDeg, az = azimuth_deg * kDeg;
-  const Eigen::Vector3d dir = std::cos(el) * (std::cos(az) * b + std::sin(az) * a) + std::sin(el) * up.normalized();
+  const Eigen::Vector3d dir =
+      std::cos(el) * (std::cos(az) * b + std::sin(az) * a) + std::sin(el) * up.normalized();
   return target + distance * dir;
 }
 
@@ -87,8 +88,8 @@ void OrbitCamera::zoom(double factor) {
   if (factor > 0 && std::isfinite(factor)) distance *= factor;
 }
 
-OrbitCamera frame_bounding_box(const Eigen::MatrixXd& V, double aspect, double azimuth_deg, double elevation_deg,
-                               const Eigen::Vector3d& up, double margin) {
+OrbitCamera frame_bounding_box(const Eigen::MatrixXd& V, double aspect, double azimuth_deg,
+                               double elevation_deg, const Eigen::Vector3d& up, double margin) {
   if (V.rows() == 0 || V.cols() != 3) throw Error("frame_bounding_box: expected n×3 vertices with n > 0");
   if (!V.allFinite()) throw Error("frame_bounding_box: non-finite vertex coordinates");
   if (!(aspect > 0)) throw Error("frame_bounding_box: aspect must be positive");

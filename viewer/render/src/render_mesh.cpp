@@ -35,8 +35,8 @@ std::vector<double> parse_list(const std::string& s, const char* option, std::si
     out.push_back(v);
   }
   if (out.size() < lo || out.size() > hi)
-    throw Error(std::string(option) + ": expected " + std::to_string(lo) + (lo == hi ? "" : "-" + std::to_string(hi)) +
-                " comma-separated numbers, got '" + s + "'");
+    throw Error(std::string(option) + ": expected " + std::to_string(lo) +
+                (lo == hi ? "" : "-" + std::to_string(hi)) + " comma-separated numbers, got '" + s + "'");
   return out;
 }
 }  // namespace
@@ -53,21 +53,24 @@ void parse_camera(const std::string& text, RenderOptions& o, const char* option)
   const auto c = parse_list(text, option, 2, 3);
   o.azimuth_deg = c[0], o.elevation_deg = c[1];
   if (c.size() == 3) {
-    if (!(c[2] > 0)) throw Error(std::string(option) + ": distance must be positive, got " + std::to_string(c[2]));
+    if (!(c[2] > 0))
+      throw Error(std::string(option) + ": distance must be positive, got " + std::to_string(c[2]));
     o.distance = c[2];
   }
 }
 
 void parse_q_range(const std::string& text, RenderOptions& o, const char* option) {
   const auto q = parse_list(text, option, 2, 2);
-  if (!(q[0] >= 1 && q[1] > q[0])) throw Error(std::string(option) + ": expected 1 <= LO < HI, got '" + text + "'");
+  if (!(q[0] >= 1 && q[1] > q[0]))
+    throw Error(std::string(option) + ": expected 1 <= LO < HI, got '" + text + "'");
   o.style.q_min = q[0], o.style.q_max = q[1];
 }
 
 OrbitCamera render_camera(const Eigen::MatrixXd& V, const RenderOptions& o) {
   OrbitCamera cam = frame_bounding_box(V, double(o.width) / o.height, o.azimuth_deg, o.elevation_deg, o.up);
   if (o.distance) {
-    if (!(*o.distance > 0)) throw Error("camera distance must be positive, got " + std::to_string(*o.distance));
+    if (!(*o.distance > 0))
+      throw Error("camera distance must be positive, got " + std::to_string(*o.distance));
     cam.distance = *o.distance;
   }
   return cam;
@@ -75,13 +78,15 @@ OrbitCamera render_camera(const Eigen::MatrixXd& V, const RenderOptions& o) {
 
 Image render_mesh(const Mesh& mesh, const Mesh* rest, const RenderOptions& o, RenderTimings* timings) {
   if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
-    throw Error("image size " + std::to_string(o.width) + "x" + std::to_string(o.height) + " outside [1, 16384]");
+    throw Error("image size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+                " outside [1, 16384]");
   Eigen::VectorXd Q;
   if (o.style.color == ColorMode::Q) {
     if (!rest) throw Error("colour mode q needs the rest mesh (--rest)");
     if (rest->V.rows() != mesh.V.rows() || rest->F.rows() != mesh.F.rows() || rest->F != mesh.F)
-      throw Error("rest mesh has " + std::to_string(rest->V.rows()) + " vertices / " + std::to_string(rest->F.rows()) +
-                  " faces, the mesh " + std::to_string(mesh.V.rows()) + " / " + std::to_string(mesh.F.rows()) +
+      throw Error("rest mesh has " + std::to_string(rest->V.rows()) + " vertices / " +
+                  std::to_string(rest->F.rows()) + " faces, the mesh " + std::to_string(mesh.V.rows()) +
+                  " / " + std::to_string(mesh.F.rows()) +
                   " (or different faces): Q needs the same connectivity");
     Q = quasi_conformal_error(rest->V, rest->F, mesh.V);  // validates coordinates, names bad vertices/faces
   }

@@ -10,8 +10,8 @@
 namespace spinmotor::viewer {
 
 struct TriangleHit {
-  double t = 0;        ///< ray parameter (distance along the unit direction), > 0
-  double u = 0, v = 0; ///< barycentrics of b and c: p = (1 − u − v) a + u b + v c
+  double t = 0;         ///< ray parameter (distance along the unit direction), > 0
+  double u = 0, v = 0;  ///< barycentrics of b and c: p = (1 − u − v) a + u b + v c
 };
 
 /// Möller–Trumbore ray–triangle intersection, both sides of the triangle. Nothing for a miss, a hit

@@ -19,12 +19,12 @@ namespace spinmotor::viewer {
 
 struct SnapOutcome {
   std::uint64_t generation = 0;
-  Eigen::MatrixXd V;        ///< snapped positions (empty on error)
-  Eigen::VectorXd Q;        ///< per-face quasi-conformal error of the snap against the rest mesh
-  double q_mean = 0;        ///< rest-area weighted
-  double bind_ms = 0;       ///< ConformalSnap bind (first request only, else 0)
+  Eigen::MatrixXd V;   ///< snapped positions (empty on error)
+  Eigen::VectorXd Q;   ///< per-face quasi-conformal error of the snap against the rest mesh
+  double q_mean = 0;   ///< rest-area weighted
+  double bind_ms = 0;  ///< ConformalSnap bind (first request only, else 0)
   double snap_ms = 0;
-  std::string error;        ///< what went wrong (spinmotor::Error message), else empty
+  std::string error;  ///< what went wrong (spinmotor::Error message), else empty
 };
 
 class SnapWorker {

@@ -14,8 +14,8 @@ class Framebuffer {
   Framebuffer(const Framebuffer&) = delete;
   Framebuffer& operator=(const Framebuffer&) = delete;
 
-  void bind();         ///< draw into the multisampled buffer
-  Image read();        ///< resolves and reads the pixels (waits for the GPU)
+  void bind();   ///< draw into the multisampled buffer
+  Image read();  ///< resolves and reads the pixels (waits for the GPU)
   int width() const { return width_; }
   int height() const { return height_; }
 

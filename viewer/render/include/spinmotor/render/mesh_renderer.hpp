@@ -27,10 +27,10 @@ enum class ColorMode {
 
 struct RenderStyle {
   ColorMode color = ColorMode::Normals;
-  bool smooth = true;       ///< interpolated vertex normals (else per-face normals)
-  bool wireframe = false;   ///< dark edges over the surface
+  bool smooth = true;               ///< interpolated vertex normals (else per-face normals)
+  bool wireframe = false;           ///< dark edges over the surface
   double q_min = 1.0, q_max = 2.0;  ///< Q range of the colour map (log scale)
-  double checker_cells = 16;        ///< checker cells per unit of UV (or per bounding-box diagonal without UV)
+  double checker_cells = 16;  ///< checker cells per unit of UV (or per bounding-box diagonal without UV)
   Eigen::Vector3f background{1.0f, 1.0f, 1.0f};
 };
 
@@ -61,9 +61,9 @@ class MeshRenderer {
   Eigen::Index n_ = 0, m_ = 0;
   bool has_uv_ = false;
   double diagonal_ = 1;
-  Eigen::MatrixXi F_;                       ///< mesh faces (for normals)
-  std::vector<int> source_vertex_;          ///< GPU vertex → mesh vertex
-  std::vector<float> pos_, nrm_;            ///< staging for uploads
+  Eigen::MatrixXi F_;               ///< mesh faces (for normals)
+  std::vector<int> source_vertex_;  ///< GPU vertex → mesh vertex
+  std::vector<float> pos_, nrm_;    ///< staging for uploads
 };
 
 /// Area-weighted vertex normals (n×3, unit; zero rows for isolated vertices).

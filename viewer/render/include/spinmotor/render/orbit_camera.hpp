@@ -46,7 +46,7 @@ struct OrbitCamera {
 /// bounding sphere (half the diagonal, times `margin`) fits the smaller field of view of a view with
 /// width/height `aspect`. Throws Error if V is empty or not finite.
 OrbitCamera frame_bounding_box(const Eigen::MatrixXd& V, double aspect, double azimuth_deg = 30,
-                               double elevation_deg = 20, const Eigen::Vector3d& up = Eigen::Vector3d::UnitY(),
-                               double margin = 1.05);
+                               double elevation_deg = 20,
+                               const Eigen::Vector3d& up = Eigen::Vector3d::UnitY(), double margin = 1.05);
 
 }  // namespace spinmotor::render

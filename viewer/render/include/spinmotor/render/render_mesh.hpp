@@ -23,8 +23,8 @@ struct RenderOptions {
   double azimuth_deg = 30, elevation_deg = 20;
   std::optional<double> distance;  ///< eye–target distance; default frames the bounding box
   Eigen::Vector3d up = Eigen::Vector3d::UnitY();
-  bool color_bar = true;           ///< with ColorMode::Q
-  int samples = 4;                 ///< MSAA samples
+  bool color_bar = true;  ///< with ColorMode::Q
+  int samples = 4;        ///< MSAA samples
 };
 
 struct RenderTimings {
@@ -47,6 +47,7 @@ OrbitCamera render_camera(const Eigen::MatrixXd& V, const RenderOptions& options
 /// Renders `mesh`; with ColorMode::Q the per-face quasi-conformal error of mesh.V against rest->V
 /// (same connectivity) is shown, so `rest` is required then. Throws Error on bad input (mismatched
 /// sizes, Q mode without rest, non-finite coordinates, size out of range) or when no context can be made.
-Image render_mesh(const Mesh& mesh, const Mesh* rest, const RenderOptions& options, RenderTimings* timings = nullptr);
+Image render_mesh(const Mesh& mesh, const Mesh* rest, const RenderOptions& options,
+                  RenderTimings* timings = nullptr);
 
 }  // namespace spinmotor::render
