@@ -34,7 +34,15 @@ void run(const DeformArgs& a) {
   }
   if (a.scene.empty()) throw spinmotor::Error("deform: a scene file is required (spinmotor deform SCENE.json)");
   const Scene scene = load_scene(a.scene);
-  const RunResult r = run_scene(scene);
+  // Progress on stderr once the run has taken more than a second: bind, then frames with an ETA.
+  const RunResult r = run_scene(scene, [&](std::size_t f, std::size_t n, double t) {
+    if (a.quiet || t < 1.0) return;
+    if (f == 0)
+      std::fprintf(stderr, "deform: bound in %.1f s\n", t);
+    else
+      std::fprintf(stderr, "deform: frame %zu/%zu, elapsed %.1f s, ETA %.1f s\n", f, n, t,
+                   t / static_cast<double>(f) * static_cast<double>(n - f));
+  });
   for (const auto& w : r.warnings) std::cerr << "spinmotor: warning: " << w << '\n';
   std::optional<std::filesystem::path> out_dir;
   if (!a.out_dir.empty()) out_dir = a.out_dir;

@@ -20,7 +20,7 @@ namespace spinmotor::scene {
 
 using nlohmann::json;
 
-RunResult run_scene(const Scene& scene) {
+RunResult run_scene(const Scene& scene, const RunProgress& progress) {
   using clock = std::chrono::steady_clock;
   RunResult r;
   if (scene.ik && scene.deformer_type != "spline")
@@ -29,6 +29,7 @@ RunResult run_scene(const Scene& scene) {
   const auto t0 = clock::now();
   std::unique_ptr<SceneDeformer> d = bind_deformer(scene);
   r.bind_ms = std::chrono::duration<double, std::milli>(clock::now() - t0).count();
+  auto seconds = [&] { return std::chrono::duration<double>(clock::now() - t0).count(); };
 
   // Every pose entry must name a control of this deformer.
   const std::vector<std::string> controls = d->controls();
@@ -55,6 +56,7 @@ RunResult run_scene(const Scene& scene) {
       throw Error(scene.name() + ": /snap: " + e.what(), e.kind());
     }
   }
+  if (progress) progress(0, scene.frames.size(), seconds());
   for (std::size_t f = 0; f < scene.frames.size(); ++f) {
     FrameResult fr;
     const auto t1 = clock::now();
@@ -110,6 +112,7 @@ RunResult run_scene(const Scene& scene) {
     }
     fr.metrics = std::move(j);
     r.frames.push_back(std::move(fr));
+    if (progress) progress(f + 1, scene.frames.size(), seconds());
   }
   return r;
 }

@@ -17,6 +17,7 @@
 // Animated scenes (`frames`) number their outputs: out/x.obj -> out/x.0000.obj, out/x.0001.obj, ...
 #include <Eigen/Core>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -39,9 +40,13 @@ struct RunResult {
   std::vector<std::string> warnings;  ///< notes for the user (printed by `deform`)
 };
 
+/// Called after the bind (frame = 0) and after each frame (frame = 1..frames) with the seconds since
+/// run_scene started: the CLI prints progress lines and an ETA from it.
+using RunProgress = std::function<void(std::size_t frame, std::size_t frames, double elapsed_s)>;
+
 /// Binds and poses. Throws Error naming the JSON path of a pose entry no control has, or what the
 /// deformer reports (handle, component, ...).
-RunResult run_scene(const Scene& scene);
+RunResult run_scene(const Scene& scene, const RunProgress& progress = {});
 
 /// Where output `spec` of frame `frame` goes: relative paths against out_dir if given, else the scene
 /// directory; animated scenes insert the 4-digit frame number before the extension.
