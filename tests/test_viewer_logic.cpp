@@ -211,6 +211,11 @@ TEST_CASE("session: pose a handle, undo/redo, save the scene with the pose", "[v
   CHECK(s.redo());
   CHECK((s.posed() - V1).norm() < 1e-12);
   CHECK_THROWS_AS(s.set_motor("nope", m), Error);
+  // A moved session keeps a working deformer (it refers to the session's scene, which must not move).
+  Session moved = std::move(s);
+  moved.set_motor("tip", m);
+  CHECK((moved.posed() - V1).norm() < 1e-12);
+  s = std::move(moved);
   // The saved scene loads again and poses the same mesh.
   const auto out = std::filesystem::path(SPINMOTOR_TEST_DATA_DIR) / "scenes" / "viewer_saved_tmp.json";
   s.save_scene(out);
@@ -297,6 +302,24 @@ TEST_CASE("spinmotor-viewer headless under xvfb-run: a gizmo twist shows in Q, t
   INFO("warm pixels: edit " << we << ", snap " << ws);
   CHECK(we > 0.3);
   CHECK(ws < 0.05);
+  // The window itself: the GLFW + ImGui loop runs a few frames and draws the mesh and the panel.
+  const auto win = dir / "window.png";
+  const std::string cmd = "xvfb-run -a " + std::string(SPINMOTOR_VIEWER) + " " + scene.string() +
+                          " --size 800x500 --up z --smoke-frames 5 --smoke-png " + win.string() + " > " +
+                          (dir / "window.log").string() + " 2>&1";
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  const Image w = read_png(win);
+  REQUIRE(w.width == 800);
+  int panel = 0, mesh = 0;
+  for (int y = 0; y < 500; ++y)
+    for (int x = 0; x < 800; ++x) {
+      const auto p = w.pixel(x, y);
+      const bool dark = p[0] < 90 && p[1] < 90 && p[2] < 90;  // ImGui's dark window background
+      if (x < 100 && y < 100 && dark) ++panel;
+      if (x > 400 && !white(w, x, y) && !dark) ++mesh;  // right of the panel
+    }
+  CHECK(panel > 2000);
+  CHECK(mesh > 500);
   std::filesystem::remove_all(dir);
 }
 #endif

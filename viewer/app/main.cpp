@@ -117,6 +117,8 @@ struct Args {
   bool snap = false, flat = false, wireframe = false;
   int frames = 0;
   double tradeoff = 1.0;
+  int smoke_frames = 0;   ///< window mode: run this many frames, then exit (smoke test under Xvfb)
+  std::string smoke_png;  ///< ... and save the last window frame (mesh + UI) here
 };
 
 // ---- headless -----------------------------------------------------------------------------------
@@ -291,7 +293,7 @@ struct Viewer {
 
 void draw_gizmo_and_handle_input(Viewer& v, int w, int h) {
   ImGuiIO& io = ImGui::GetIO();
-  ImDrawList* dl = ImGui::GetForegroundDrawList();
+  ImDrawList* dl = ImGui::GetBackgroundDrawList();  // over the mesh, under the panels
   const std::string name = v.handle_name();
   const auto verts = v.session.handle_vertices(name);
   const ImVec2 mouse = io.MousePos;
@@ -494,7 +496,7 @@ int run_window(const Args& a) {
     v.style.color = parse_color(a.color);
     if (!a.camera.empty()) render::parse_camera(a.camera, o);
     o.up = Eigen::Vector3d::Unit(a.up[0] - 'x');
-    v.cam = render::render_camera(v.session.rest().V, o);
+    v.cam = render::render_camera(v.session.posed(), o);  // frames the scene as posed
     v.renderer = std::make_unique<render::MeshRenderer>();
     v.renderer->set_mesh(v.session.rest());
     if (v.session.has_deformer()) v.worker = std::make_unique<SnapWorker>(v.session.rest());
@@ -503,7 +505,7 @@ int run_window(const Args& a) {
     std::snprintf(v.save_path, sizeof v.save_path, "%s",
                   (v.session.scene().dir / (stem + "-edited.json")).c_str());
     std::snprintf(v.export_path, sizeof v.export_path, "%s", (stem + "-posed.obj").c_str());
-    while (!glfwWindowShouldClose(window)) {
+    for (int frame = 1; !glfwWindowShouldClose(window); ++frame) {
       const auto t0 = Clock::now();
       glfwPollEvents();
       ImGui_ImplOpenGL3_NewFrame();
@@ -537,6 +539,22 @@ int run_window(const Args& a) {
       render::gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
       v.renderer->draw(v.cam, fw, fh, v.style);
       ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+      if (a.smoke_frames > 0 && frame >= a.smoke_frames) {
+        if (!a.smoke_png.empty()) {
+          render::Image im;
+          im.width = fw, im.height = fh, im.rgba.resize(std::size_t(fw) * fh * 4);
+          std::vector<std::uint8_t> rows(im.rgba.size());
+          render::gl.BindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+          render::gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+          render::gl.ReadPixels(0, 0, fw, fh, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+          for (int y = 0; y < fh; ++y)
+            std::copy_n(&rows[std::size_t(fh - 1 - y) * fw * 4], std::size_t(fw) * 4,
+                        &im.rgba[std::size_t(y) * fw * 4]);
+          render::write_png(a.smoke_png, im);
+        }
+        std::printf("window: %d frames, last %.1f ms\n", frame, v.frame_ms);
+        break;
+      }
       glfwSwapBuffers(window);
       v.frame_ms = ms_since(t0);
     }
@@ -575,6 +593,9 @@ int main(int argc, char** argv) {
   app.add_option("--frames", a.frames,
                  "Headless: pose + upload + draw this many frames and print the frame timer")
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--smoke-frames", a.smoke_frames, "Window mode: exit after this many frames (tests)");
+  app.add_option("--smoke-png", a.smoke_png,
+                 "Window mode with --smoke-frames: save the last frame (with the UI)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -33,35 +33,35 @@ Session Session::open(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   if (ext == ".json") {
-    s.scene_ = scene::load_scene(path);
+    *s.scene_ = scene::load_scene(path);
     const auto t0 = std::chrono::steady_clock::now();
-    s.deformer_ = scene::bind_deformer(s.scene_);
+    s.deformer_ = scene::bind_deformer(*s.scene_);
     s.bind_ms_ = ms_since(t0);
     s.controls_ = s.deformer_->controls();
-    if (!s.scene_.frames.empty()) s.pose_ = s.scene_.frames.front();
+    if (!s.scene_->frames.empty()) s.pose_ = s.scene_->frames.front();
   } else {
-    s.scene_.file = path;
-    s.scene_.dir = path.parent_path();
-    s.scene_.mesh = read_mesh(path);
-    s.scene_.mesh_source = path.string();
-    s.scene_.doc = {{"mesh", path.filename().string()}};
+    s.scene_->file = path;
+    s.scene_->dir = path.parent_path();
+    s.scene_->mesh = read_mesh(path);
+    s.scene_->mesh_source = path.string();
+    s.scene_->doc = {{"mesh", path.filename().string()}};
   }
   s.pose_.path = "/pose";
   s.history_ = UndoStack<scene::Pose>(s.pose_);
-  s.V_ = s.scene_.mesh.V;
+  s.V_ = s.scene_->mesh.V;
   return s;
 }
 
 std::vector<int> Session::handle_vertices(const std::string& name) const {
-  const int h = scene_.handle_index(name);
+  const int h = scene_->handle_index(name);
   if (h < 0) return {};
-  const Eigen::VectorXi& v = scene_.handles[h].vertices;
+  const Eigen::VectorXi& v = scene_->handles[h].vertices;
   return {v.data(), v.data() + v.size()};
 }
 
 void Session::set_motor(const std::string& name, const ga::Mot& m) {
   if (std::find(controls_.begin(), controls_.end(), name) == controls_.end())
-    throw Error("viewer: no control named '" + name + "' in " + scene_.name());
+    throw Error("viewer: no control named '" + name + "' in " + scene_->name());
   pose_.motors[name] = m;
   dirty_ = true;
 }
@@ -93,7 +93,7 @@ const Eigen::MatrixXd& Session::posed() {
 }
 
 nlohmann::json Session::scene_document() const {
-  nlohmann::json doc = scene_.doc;
+  nlohmann::json doc = scene_->doc;
   doc.erase("frames");
   nlohmann::json pose = nlohmann::json::object();
   for (const auto& [name, m] : pose_.motors) pose[name] = motor_to_json(m);

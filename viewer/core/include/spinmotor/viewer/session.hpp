@@ -32,8 +32,8 @@ class Session {
   Session& operator=(Session&&) noexcept;
   ~Session();
 
-  const scene::Scene& scene() const { return scene_; }
-  const Mesh& rest() const { return scene_.mesh; }
+  const scene::Scene& scene() const { return *scene_; }
+  const Mesh& rest() const { return scene_->mesh; }
   bool has_deformer() const { return deformer_ != nullptr; }
   double bind_ms() const { return bind_ms_; }
   /// The names the pose may move (handles, keys, control points); empty without deformer.
@@ -64,7 +64,8 @@ class Session {
 
  private:
   Session() = default;
-  scene::Scene scene_;
+  // On the heap: a bound scene deformer may keep a reference to its Scene, which must not move.
+  std::unique_ptr<scene::Scene> scene_ = std::make_unique<scene::Scene>();
   std::unique_ptr<scene::SceneDeformer> deformer_;
   std::vector<std::string> controls_;
   scene::Pose pose_;
