@@ -216,6 +216,25 @@ TEST_CASE("session: pose a handle, undo/redo, save the scene with the pose", "[v
   moved.set_motor("tip", m);
   CHECK((moved.posed() - V1).norm() < 1e-12);
   s = std::move(moved);
+  // Handles made in the viewer (brush selection): a new handle is posed by its own motor.
+  const Eigen::MatrixXd& R = s.rest().V;
+  std::vector<int> mid;
+  for (Eigen::Index i = 0; i < R.rows(); ++i)
+    if (std::abs(R(i, 2) - 2.0) < 0.06) mid.push_back(int(i));
+  REQUIRE_FALSE(mid.empty());
+  CHECK_THROWS_AS(s.add_handle("tip", mid), Error);                     // name taken
+  CHECK_THROWS_AS(s.add_handle("x", s.handle_vertices("tip")), Error);  // vertices owned by 'tip'
+  CHECK(s.controls().size() == 2);                                      // unchanged after the errors
+  s.add_handle("mid", mid);
+  REQUIRE(s.controls().size() == 3);
+  s.set_motor("mid", ga::from_isometry(Eigen::Isometry3d(Eigen::Translation3d(0.3, 0, 0))));
+  const Eigen::MatrixXd V2 = s.posed();
+  for (int i : mid) CHECK((V2.row(i) - R.row(i) - Eigen::RowVector3d(0.3, 0, 0)).norm() < 1e-9);
+  for (int i : tip) CHECK((V2.row(i) - V1.row(i)).norm() < 1e-9);  // the tip keeps its pose
+  s.remove_handle("mid");
+  CHECK(s.controls().size() == 2);
+  CHECK((s.posed() - V1).cwiseAbs().maxCoeff() < 1e-9);
+  CHECK_THROWS_AS(s.remove_handle("mid"), Error);
   // The saved scene loads again and poses the same mesh.
   const auto out = std::filesystem::path(SPINMOTOR_TEST_DATA_DIR) / "scenes" / "viewer_saved_tmp.json";
   s.save_scene(out);

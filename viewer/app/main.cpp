@@ -28,6 +28,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <iterator>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -261,6 +262,9 @@ struct Viewer {
   std::string status;
   char save_path[512] = "", export_path[512] = "", shot_path[512] = "screenshot.png";
   double frame_ms = 0;
+  std::vector<int> selection;  ///< brush selection (ctrl+click) for a new handle
+  float brush = 0.1f;          ///< brush radius, fraction of the scene radius
+  char new_handle[64] = "handle";
 
   explicit Viewer(Session s) : session(std::move(s)) {}
 
@@ -301,6 +305,14 @@ void draw_gizmo_and_handle_input(Viewer& v, int w, int h) {
   const ImU32 colours[3] = {IM_COL32(220, 50, 50, 255), IM_COL32(50, 180, 50, 255),
                             IM_COL32(60, 90, 230, 255)};
   int hover_axis = -1;
+  if (!v.selection.empty()) {
+    const Eigen::MatrixXd& V = v.session.posed();
+    const std::size_t step = std::max<std::size_t>(1, v.selection.size() / 4000);
+    for (std::size_t i = 0; i < v.selection.size(); i += step) {
+      const Eigen::Vector3d p = v.cam.project(V.row(v.selection[i]).transpose(), w, h);
+      dl->AddCircleFilled(ImVec2(float(p.x()), float(p.y())), 2.0f, IM_COL32(255, 200, 0, 255));
+    }
+  }
   if (!verts.empty()) {
     const Eigen::Vector3d c = posed_centroid(v.session.rest().V, verts, v.session.motor(name));
     const double r = 0.25 * v.cam.scene_radius;
@@ -351,6 +363,18 @@ void draw_gizmo_and_handle_input(Viewer& v, int w, int h) {
     return;
   }
   if (io.WantCaptureMouse) return;
+  // Brush: ctrl+click adds the vertices within the brush radius of the picked surface point.
+  if (io.KeyCtrl && ImGui::IsMouseClicked(0)) {
+    const Eigen::MatrixXd& V = v.session.posed();
+    if (const auto hit = pick(ray, V, v.session.rest().F)) {
+      const auto add = vertices_in_sphere(V, hit->point, v.brush * v.cam.scene_radius);
+      std::vector<int> merged;
+      std::set_union(v.selection.begin(), v.selection.end(), add.begin(), add.end(),
+                     std::back_inserter(merged));
+      v.selection = std::move(merged);
+    }
+    return;
+  }
   const ImVec2 d = io.MouseDelta;
   if (ImGui::IsMouseDragging(1) || (ImGui::IsMouseDragging(0) && io.KeyShift))
     v.cam.pan(d.x, d.y, w, h);
@@ -392,6 +416,31 @@ void panel(Viewer& v, GLFWwindow* window, int w, int h) {
       ImGui::Dummy(ImVec2(200, 14));
       ImGui::Text("%.2f %*s %.2f (log scale)", v.style.q_min, 18, "", v.style.q_max);
     }
+  }
+  if (ImGui::CollapsingHeader("Handles", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::SliderFloat("brush", &v.brush, 0.01f, 0.5f);
+    ImGui::Text("ctrl+click: select (%zu vertices)", v.selection.size());
+    ImGui::InputText("name", v.new_handle, sizeof v.new_handle);
+    if (ImGui::Button("new handle")) try {
+        v.session.add_handle(v.new_handle, v.selection);
+        v.selection.clear();
+        v.handle = int(v.session.controls().size()) - 1;
+        if (!v.worker) v.worker = std::make_unique<SnapWorker>(v.session.rest());
+        v.geometry_dirty = true;
+        v.status = std::string("added handle ") + v.new_handle;
+      } catch (const std::exception& e) {
+        v.status = e.what();
+      }
+    ImGui::SameLine();
+    if (ImGui::Button("clear selection")) v.selection.clear();
+    ImGui::SameLine();
+    if (ImGui::Button("delete handle") && !v.handle_name().empty()) try {
+        v.session.remove_handle(v.handle_name());
+        v.handle = 0;
+        v.geometry_dirty = true;
+      } catch (const std::exception& e) {
+        v.status = e.what();
+      }
   }
   if (v.session.has_deformer() && ImGui::CollapsingHeader("Pose", ImGuiTreeNodeFlags_DefaultOpen)) {
     ImGui::Text("deformer %s: bind %.0f ms, pose %.2f ms", v.session.scene().deformer_type.c_str(),

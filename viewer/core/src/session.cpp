@@ -52,6 +52,48 @@ Session Session::open(const std::filesystem::path& path) {
   return s;
 }
 
+void Session::rebind(nlohmann::json doc) {
+  // Build everything first: on any error the session is unchanged.
+  auto sc = std::make_unique<scene::Scene>(scene::parse_scene(doc, scene_->dir, scene_->name()));
+  sc->file = scene_->file;
+  const auto t0 = std::chrono::steady_clock::now();
+  auto deformer = scene::bind_deformer(*sc);
+  std::vector<std::string> controls = deformer->controls();
+  scene::Pose pose = pose_;
+  std::erase_if(pose.motors, [&](const auto& kv) {
+    return std::find(controls.begin(), controls.end(), kv.first) == controls.end();
+  });
+  deformer_.reset();  // before the scene it refers to
+  scene_ = std::move(sc);
+  deformer_ = std::move(deformer);
+  bind_ms_ = ms_since(t0);
+  controls_ = std::move(controls);
+  pose_ = std::move(pose);
+  history_ = UndoStack<scene::Pose>(pose_);
+  V_ = scene_->mesh.V;
+  dirty_ = true;
+}
+
+void Session::add_handle(const std::string& name, const std::vector<int>& vertices) {
+  if (name.empty()) throw Error("viewer: a handle needs a name");
+  if (scene_->handle_index(name) >= 0) throw Error("viewer: there is already a handle named '" + name + "'");
+  if (vertices.empty()) throw Error("viewer: handle '" + name + "' selects no vertex");
+  nlohmann::json doc = scene_document();
+  if (!doc.contains("handles")) doc["handles"] = nlohmann::json::array();
+  if (!doc.contains("deformer")) doc["deformer"] = {{"type", "surface-harmonic"}};
+  doc["handles"].push_back({{"name", name}, {"select", {{"vertices", vertices}}}});
+  rebind(std::move(doc));
+}
+
+void Session::remove_handle(const std::string& name) {
+  const int h = scene_->handle_index(name);
+  if (h < 0) throw Error("viewer: no handle named '" + name + "'");
+  nlohmann::json doc = scene_document();
+  doc["handles"].erase(doc["handles"].begin() + h);
+  if (doc.contains("pose")) doc["pose"].erase(name);
+  rebind(std::move(doc));
+}
+
 std::vector<int> Session::handle_vertices(const std::string& name) const {
   const int h = scene_->handle_index(name);
   if (h < 0) return {};

@@ -41,6 +41,15 @@ class Session {
   /// Rest vertices of the handle called `name` (empty if it is not a handle, e.g. an FFD control).
   std::vector<int> handle_vertices(const std::string& name) const;
 
+  /// Adds a handle {"name", "select": {"vertices": [...]}} to the scene document, re-validates it and
+  /// rebinds the deformer (a bare mesh gets a surface-harmonic deformer). The pose is kept; the undo
+  /// history restarts (its poses may name handles that no longer exist). Throws Error (naming the JSON
+  /// path) for an empty or taken name, no vertices, or vertices another handle owns; the session is
+  /// then unchanged.
+  void add_handle(const std::string& name, const std::vector<int>& vertices);
+  /// Removes a handle and its pose entry, then rebinds as add_handle. Error if there is no such handle.
+  void remove_handle(const std::string& name);
+
   const scene::Pose& pose() const { return pose_; }
   ga::Mot motor(const std::string& name) const { return pose_.motor(name); }
   /// Sets one motor of the working pose (during a drag: no undo step yet). Error for an unknown control.
@@ -64,6 +73,7 @@ class Session {
 
  private:
   Session() = default;
+  void rebind(nlohmann::json doc);
   // On the heap: a bound scene deformer may keep a reference to its Scene, which must not move.
   std::unique_ptr<scene::Scene> scene_ = std::make_unique<scene::Scene>();
   std::unique_ptr<scene::SceneDeformer> deformer_;
