@@ -39,7 +39,7 @@ void run(const ExtrudeArgs& a) {
       << " faces) must have the same connectivity";
     throw Error(s.str());
   }
-  require(orig, {.genus0 = true}, "extrude");
+  require(orig, {.manifold = true, .oriented = true, .closed = true}, "extrude");
   if (a.steps < 1) throw Error("extrude: --steps " + std::to_string(a.steps) + " must be at least 1");
   CurvatureSpinOptions o{.alpha = 0.05};
   o.area_epsilon = a.eps;

@@ -3,6 +3,7 @@
 // prescribing the half-density (1 − τ)h of the current surface (eq. 8, optionally with the Appendix D
 // area soft constraint of tolerance EPS). Genus 0 only. The output (same connectivity, texture
 // coordinates kept) is written once, atomically: on error (exit 2 bad input, 3 numerical) no file is left.
+// Genus > 0: the exactness constraints of Appendix C keep the handles closed.
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -32,7 +33,7 @@ struct FairArgs {
 void run(const FairArgs& a) {
   const auto start = std::chrono::steady_clock::now();
   const Mesh mesh = read_mesh(a.mesh);
-  require(mesh, {.genus0 = true}, "fair");
+  require(mesh, {.manifold = true, .oriented = true, .closed = true}, "fair");
   if (a.steps < 1) throw Error("fair: --steps " + std::to_string(a.steps) + " must be at least 1");
   CurvatureSpinOptions o;
   o.area_epsilon = a.eps;
@@ -71,9 +72,9 @@ void run(const FairArgs& a) {
 }
 
 const cli::RegisterCommand reg{
-    "fair", "Fair a genus-0 mesh toward a round sphere in curvature space (Le Folgoc 2019)", [](CLI::App& sub) {
+    "fair", "Fair a closed mesh in curvature space, toward a round sphere for genus 0 (Le Folgoc 2019)", [](CLI::App& sub) {
       auto a = std::make_shared<FairArgs>();
-      sub.add_option("MESH", a->mesh, "Closed genus-0 mesh (OBJ, OFF, PLY, STL)")->required();
+      sub.add_option("MESH", a->mesh, "Closed oriented manifold mesh (OBJ, OFF, PLY, STL); genus > 0 uses the exactness constraints")->required();
       sub.add_option("--steps", a->steps, "Number of steps")->capture_default_str();
       sub.add_option("--tau", a->tau, "Fraction of the half-density removed per step, in (0, 1]")
           ->capture_default_str();

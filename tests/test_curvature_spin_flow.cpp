@@ -90,3 +90,31 @@ TEST_CASE("curvature spin flows reject bad input", "[lefolgoc]") {
   CHECK_THROWS_AS(curvature_fairing(s.V, s.F, 2, 1.5), Error);
   CHECK_THROWS_AS(curvature_extrusion(s.V, s.F, icosphere(2).V, 2), Error);
 }
+
+TEST_CASE("genus 1: the exactness constraint keeps a torus closing up; without it a period opens", "[lefolgoc][torus]") {
+  Mesh t = torus(2.0, 0.8, 32, 16);
+  for (Eigen::Index v = 0; v < t.V.rows(); ++v) {  // break the symmetry: elliptic, with a bump
+    t.V(v, 0) *= 1.4;
+    const double bump = 0.5 * std::exp(-((t.V.row(v) - Eigen::RowVector3d(2.8, 0.0, 0.8)).squaredNorm()));
+    t.V(v, 2) += bump;
+  }
+  for (const bool exact : {true, false}) {
+    CurvatureSpinOptions o;
+    o.exactness = exact;
+    const EdgeConstraintNet net = edge_constraint_net(t.V, t.F);
+    const double fac = 0.3;
+    const CurvatureSpinStep st = curvature_spin_step(t.V, t.F, fac * net.h, {}, o);
+    std::printf("torus step (h -> %g h), exactness %s (%d constraints): closure residual %.3g, period %.3g\n", fac,
+                exact ? "on" : "off", st.exactness_constraints, st.closure, st.period);
+    // The period (sum of the new edges against a harmonic form, relative) measures the failure to close
+    // around the handles; the face-closure residual of the soft eq. 8 solve (~5% here, the step prescribes
+    // a far-from-integrable h) is the same either way. Measured: period 0.0023 with, 0.060 without.
+    if (exact) {
+      CHECK(st.exactness_constraints == 6);
+      CHECK(st.period < 0.005);
+    } else {
+      CHECK(st.exactness_constraints == 0);
+      CHECK(st.period > 0.03);
+    }
+  }
+}

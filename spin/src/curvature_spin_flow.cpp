@@ -1,5 +1,9 @@
 #include "spinmotor/spin/curvature_spin_flow.hpp"
 
+#include <Eigen/Cholesky>
+#include <Eigen/QR>
+
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -9,10 +13,12 @@
 #include "spinmotor/mesh/cholesky_solver.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
 #include "spinmotor/mesh/mesh.hpp"
+#include "spinmotor/mesh/topology.hpp"
 #include "spinmotor/mesh/validate.hpp"
 #include "spinmotor/spin/edge_constraint_net.hpp"
 #include "spinmotor/spin/face_dirac_operator.hpp"
 #include "spinmotor/spin/quaternion_matrix.hpp"
+#include "spinmotor/ga/quaternion.hpp"
 
 namespace spinmotor {
 
@@ -62,6 +68,47 @@ Eigen::SparseMatrix<double> face_laplacian(const Eigen::MatrixXd& V, const Eigen
   Eigen::SparseMatrix<double> L(4 * m, 4 * m);
   L.setFromTriplets(t.begin(), t.end());
   return L;
+}
+
+// Harmonic 1-forms (Le Folgoc Appendix B/C): an orthonormal basis (columns, k edges) of the kernel of
+// the graph Helmholtzian d₀d₀ᵀ + d₁ᵀd₁, with E(e,0) → E(e,1) the edge orientation. Random edge values
+// minus their exact (d₀ f) and co-exact (d₁ᵀ ψ) parts, b₁ = 2 − χ of them.
+Eigen::MatrixXd harmonic_one_forms(const Eigen::MatrixXi& F, Eigen::Index n, const EdgeTopology& topo) {
+  const Eigen::Index m = F.rows(), k = topo.num_edges();
+  const Eigen::Index b1 = 2 - (n - k + m);
+  if (b1 <= 0) return Eigen::MatrixXd(k, 0);
+  std::vector<Eigen::Triplet<double>> t0, t1;
+  for (Eigen::Index e = 0; e < k; ++e) {
+    t0.emplace_back(e, topo.E(e, 0), -1.0);
+    t0.emplace_back(e, topo.E(e, 1), 1.0);
+  }
+  for (Eigen::Index f = 0; f < m; ++f)
+    for (int c = 0; c < 3; ++c) t1.emplace_back(f, topo.FE(f, c), F(f, (c + 1) % 3) == topo.E(topo.FE(f, c), 0) ? 1.0 : -1.0);
+  Eigen::SparseMatrix<double> d0(k, n), d1(m, k);
+  d0.setFromTriplets(t0.begin(), t0.end());
+  d1.setFromTriplets(t1.begin(), t1.end());
+  // Pin one vertex / one face (the constants span the kernels of the two graph Laplacians).
+  const Eigen::SparseMatrix<double> L0 = Eigen::SparseMatrix<double>(d0.transpose() * d0).bottomRightCorner(n - 1, n - 1);
+  const Eigen::SparseMatrix<double> L2 = Eigen::SparseMatrix<double>(d1 * d1.transpose()).bottomRightCorner(m - 1, m - 1);
+  CholeskySolver s0, s2;
+  s0.analyze(L0);
+  s0.factorize(L0);
+  s2.analyze(L2);
+  s2.factorize(L2);
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(k, b1);
+  unsigned state = 12345u;  // deterministic pseudo-random edge values
+  for (Eigen::Index e = 0; e < k; ++e)
+    for (Eigen::Index j = 0; j < b1; ++j) {
+      state = state * 1664525u + 1013904223u;
+      G(e, j) = static_cast<double>(state >> 8) / static_cast<double>(1u << 24) - 0.5;
+    }
+  Eigen::MatrixXd f = Eigen::MatrixXd::Zero(n, b1), psi = Eigen::MatrixXd::Zero(m, b1);
+  f.bottomRows(n - 1) = s0.solve(Eigen::MatrixXd((d0.transpose() * G).bottomRows(n - 1)));
+  G -= d0 * f;
+  psi.bottomRows(m - 1) = s2.solve(Eigen::MatrixXd((d1 * G).bottomRows(m - 1)));
+  G -= d1.transpose() * psi;
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr(G);
+  return qr.householderQ() * Eigen::MatrixXd::Identity(k, b1);
 }
 
 }  // namespace
@@ -117,16 +164,62 @@ CurvatureSpinStep curvature_spin_step(const Eigen::MatrixXd& V, const Eigen::Mat
   CholeskySolver solver;
   solver.analyze(S);
   solver.factorize(S);
-  Eigen::VectorXd x = solver.solve(b);
-  if (area) {  // Sherman–Morrison for S − c u uᵀ (Appendix D: the dense term never formed)
-    const Eigen::VectorXd Su = solver.solve(u);
-    const double denom = 1.0 - c * u.dot(Su);
-    if (!(std::abs(denom) > 1e-14)) throw numerical_error(std::string(who) + ": area-constrained system is singular");
-    x += Su * (c * u.dot(x) / denom);
+  // Solves with the full matrix S − c u uᵀ: Sherman–Morrison (Appendix D: the dense term never formed).
+  Eigen::VectorXd Su;
+  if (area) {
+    Su = solver.solve(u);
+    if (!(std::abs(1.0 - c * u.dot(Su)) > 1e-14))
+      throw numerical_error(std::string(who) + ": area-constrained system is singular");
   }
+  const auto solve_full = [&](const Eigen::MatrixXd& B) {
+    Eigen::MatrixXd X = solver.solve(B);
+    if (area) X += Su * ((c / (1.0 - c * u.dot(Su))) * (u.transpose() * X));
+    return X;
+  };
+  Eigen::VectorXd x = solve_full(b);
   CurvatureSpinStep out;
+  const EdgeTopology topo = edge_topology(F);
+  const Eigen::MatrixXd W = harmonic_one_forms(F, V.rows(), topo);
+  // ω^k along the traversal of face f, slot c.
+  const auto omega = [&](Eigen::Index f, int cc, Eigen::Index k) {
+    const int e = topo.FE(f, cc);
+    return (F(f, (cc + 1) % 3) == topo.E(e, 0) ? 1.0 : -1.0) * W(e, k);
+  };
+  {
+    if (options.exactness && W.cols() > 0) {  // Appendix C, eq. 12 linearised at φ = 1: Cᵀx = 0, C = [V^k ν]
+      Eigen::MatrixXd C = Eigen::MatrixXd::Zero(4 * m, 3 * W.cols());
+      for (Eigen::Index k = 0; k < W.cols(); ++k)
+        for (Eigen::Index f = 0; f < m; ++f) {
+          Eigen::Vector4d Vk = Eigen::Vector4d::Zero();
+          for (int cc = 0; cc < 3; ++cc) Vk += omega(f, cc, k) * net.hyperedge(V, F, f, cc);
+          const double a = Vk[0], bq = Vk[1], cq = Vk[2], d = Vk[3];
+          C.block<4, 1>(4 * f, 3 * k) << -bq, a, d, -cq;      // V i
+          C.block<4, 1>(4 * f, 3 * k + 1) << -cq, -d, a, bq;  // V j
+          C.block<4, 1>(4 * f, 3 * k + 2) << -d, cq, -bq, a;  // V k
+        }
+      const Eigen::MatrixXd SC = solve_full(C);
+      x -= SC * (C.transpose() * SC).ldlt().solve(C.transpose() * x);
+      out.exactness_constraints = static_cast<int>(C.cols());
+    }
+  }
   out.phi = unflatten_quaternions(one + x);
   if (!out.phi.allFinite()) throw numerical_error(std::string(who) + ": the spin transformation is not finite");
+  // Periods (eq. 12, not linearised): |Im Σ_i φ̄_i Σ_j E_ij ω^k_ij φ_j| / Σ |Ẽ_ij ω^k_ij|.
+  for (Eigen::Index k = 0; k < W.cols(); ++k) {
+    Eigen::Vector3d P = Eigen::Vector3d::Zero();
+    double norm = 0.0;
+    for (Eigen::Index f = 0; f < m; ++f)
+      for (int cc = 0; cc < 3; ++cc) {
+        const int g = net.adjacent(f, cc);
+        const Eigen::Vector4d Et = quaternion_block(ga::Quat(out.phi(f, 0), -out.phi(f, 1), -out.phi(f, 2), -out.phi(f, 3))) *
+                                   (quaternion_block(ga::Quat(net.hyperedge(V, F, f, cc)[0], net.hyperedge(V, F, f, cc)[1],
+                                                              net.hyperedge(V, F, f, cc)[2], net.hyperedge(V, F, f, cc)[3])) *
+                                    out.phi.row(g).transpose());
+        P += omega(f, cc, k) * Et.tail<3>();
+        norm += std::abs(omega(f, cc, k)) * Et.tail<3>().norm();
+      }
+    out.period = std::max(out.period, P.norm() / norm);
+  }
   out.V = face_spin_transform(V, F, out.phi, FaceDiracKind::Extrinsic, &out.closure);  // eq. 4, then eq. 9 (LS)
   return out;
 }

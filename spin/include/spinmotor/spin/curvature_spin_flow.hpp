@@ -15,7 +15,15 @@
 //   (s_i = log(A_i/A*_i) − log(ΣA/ΣA*)) linearised at φ = 1 (|φ|⁴ is the area factor, eq. 19); its
 //   dense part is the rank-one −(16/ε²) u uᵀ (u = the weights a_i on the real parts) and is solved with
 //   the Sherman–Morrison(–Woodbury) identity on one sparse Cholesky factor (no dense matrix);
-// then the new vertices come from Ẽ_ij = φ̄_i E_ij φ_j (eq. 4) by least squares (Ye §4.3).
+//   on genus g > 0 optionally the exactness constraints (Appendix C, eq. 12): for each of the 2g harmonic
+//   1-forms ω^k (kernel of the graph Helmholtzian d₀d₀ᵀ + d₁ᵀd₁, found by removing the exact and co-exact
+//   parts of random edge values) Im Σ_i φ̄_i (Σ_j E_ij ω^k_ij) φ_j = 0, linearised at φ = 1:
+//   Σ_i ⟨δφ_i, V^k_i ν⟩ = 0 with V^k_i = Σ_j E_ij ω^k_ij and ν = i, j, k (3·2g hard linear constraints,
+//   eliminated with the same Cholesky factor; eq. 12 is used instead of the ρ projection (14) because
+//   it constrains the solved φ directly);
+// then the new vertices come from Ẽ_ij = φ̄_i E_ij φ_j (eq. 4) by least squares (Ye §4.3). Without the
+// exactness constraint a torus step leaves a period (non-zero sum of Ẽ around a handle) that the least
+// squares cannot fit: it shows in CurvatureSpinStep::closure.
 #include <Eigen/Core>
 
 #include <vector>
@@ -27,12 +35,15 @@ struct CurvatureSpinOptions {
                               ///< after 4 steps of τ = ½ without the Laplacian, 5–50 stable)
   double beta = 1.0;          ///< weight of the face Laplacian in R (≥ 0)
   double area_epsilon = 0.0;  ///< tolerance ε of the area soft constraint (Appendix D); 0 = off
+  bool exactness = true;      ///< genus > 0: the exactness constraints of Appendix C (ignored on spheres)
 };
 
 struct CurvatureSpinStep {
   Eigen::MatrixXd V;        ///< n×3 new positions (centroid kept; scale from φ)
   Eigen::MatrixXd phi;      ///< m×4 face spinors
   double closure = 0.0;     ///< RMS misfit of the least-squares edge recovery / RMS edge (integrability)
+  int exactness_constraints = 0;  ///< number of real exactness constraints imposed (3 · 2 genus, or 0)
+  double period = 0.0;  ///< genus > 0: max over harmonic forms ω of |Σ_e ẽ_e ω_e| / Σ_e |ẽ_e||ω_e| (0: exact)
 };
 
 /// Inputs: V (n×3), F (m×3, counter-clockwise, closed connected manifold), target half-density h_target
