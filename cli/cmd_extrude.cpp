@@ -34,8 +34,8 @@ void run(const ExtrudeArgs& a) {
   const Mesh sphere = read_mesh(a.sphere), orig = read_mesh(a.original);
   if (sphere.V.rows() != orig.V.rows() || sphere.F.rows() != orig.F.rows() || sphere.F != orig.F) {
     std::ostringstream s;
-    s << "extrude: " << a.sphere << " (" << sphere.V.rows() << " vertices, " << sphere.F.rows() << " faces) and "
-      << a.original << " (" << orig.V.rows() << " vertices, " << orig.F.rows()
+    s << "extrude: " << a.sphere << " (" << sphere.V.rows() << " vertices, " << sphere.F.rows()
+      << " faces) and " << a.original << " (" << orig.V.rows() << " vertices, " << orig.F.rows()
       << " faces) must have the same connectivity";
     throw Error(s.str());
   }
@@ -48,7 +48,8 @@ void run(const ExtrudeArgs& a) {
   Mesh out = orig;
   out.V = r.V;
   write_mesh(a.out, out);
-  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   const double mean = d.d.mean() / d.diagonal;
   if (a.json) {
     nlohmann::json j;
@@ -66,21 +67,24 @@ void run(const ExtrudeArgs& a) {
     std::printf("extrude: %lld vertices, %lld faces, %d steps\n", static_cast<long long>(orig.V.rows()),
                 static_cast<long long>(orig.F.rows()), a.steps);
     std::printf("  Willmore energy %.6g -> %.6g\n", r.willmore.front(), r.willmore.back());
-    std::printf("  distance to ORIGINAL after similarity alignment: mean %.4g, max %.4g of the diagonal\n", mean,
-                d.max);
+    std::printf("  distance to ORIGINAL after similarity alignment: mean %.4g, max %.4g of the diagonal\n",
+                mean, d.max);
     std::printf("  time %.1f ms; wrote %s\n", ms, a.out.c_str());
   }
 }
 
 const cli::RegisterCommand reg{
-    "extrude", "Extrude a sphere back to a mesh's curvature (same connectivity; Le Folgoc 2019)", [](CLI::App& sub) {
+    "extrude", "Extrude a sphere back to a mesh's curvature (same connectivity; Le Folgoc 2019)",
+    [](CLI::App& sub) {
       auto a = std::make_shared<ExtrudeArgs>();
-      sub.add_option("SPHERE", a->sphere, "Starting surface, e.g. the output of `spinmotor fair`")->required();
+      sub.add_option("SPHERE", a->sphere, "Starting surface, e.g. the output of `spinmotor fair`")
+          ->required();
       sub.add_option("ORIGINAL", a->original, "Mesh whose half-density is prescribed (same connectivity)")
           ->required();
       sub.add_option("--steps", a->steps, "Number of steps (the half-density is ramped linearly)")
           ->capture_default_str();
-      sub.add_option("--area-constraint", a->eps, "Tolerance of the area soft constraint toward ORIGINAL's areas; 0 = off")
+      sub.add_option("--area-constraint", a->eps,
+                     "Tolerance of the area soft constraint toward ORIGINAL's areas; 0 = off")
           ->capture_default_str();
       sub.add_option("--out", a->out, "Output mesh (ORIGINAL's texture coordinates)")->required();
       sub.add_flag("--json", a->json, "Print energies and the reconstruction error as JSON");

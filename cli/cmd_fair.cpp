@@ -43,7 +43,8 @@ void run(const FairArgs& a) {
   Mesh out = mesh;
   out.V = r.V;
   write_mesh(a.out, out);
-  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (a.json) {
     nlohmann::json j;
     j["vertices"] = mesh.V.rows();
@@ -60,11 +61,11 @@ void run(const FairArgs& a) {
     j["total_ms"] = ms;
     std::cout << j.dump(2) << '\n';
   } else if (!a.quiet) {
-    std::printf("fair: %lld vertices, %lld faces, %d steps of tau %g%s\n", static_cast<long long>(mesh.V.rows()),
-                static_cast<long long>(mesh.F.rows()), a.steps, a.tau,
+    std::printf("fair: %lld vertices, %lld faces, %d steps of tau %g%s\n",
+                static_cast<long long>(mesh.V.rows()), static_cast<long long>(mesh.F.rows()), a.steps, a.tau,
                 a.eps > 0 ? (", area constraint " + std::to_string(a.eps)).c_str() : "");
-    std::printf("  Willmore energy (Ye eq. 11) %.6g -> %.6g (round sphere: 4 pi = 12.566)\n", r.willmore.front(),
-                r.willmore.back());
+    std::printf("  Willmore energy (Ye eq. 11) %.6g -> %.6g (round sphere: 4 pi = 12.566)\n",
+                r.willmore.front(), r.willmore.back());
     std::printf("  Q_mean %.4f, Q_max %.4f; |log area distortion| mean %.4f, max %.4f\n", q.q_mean, q.q_max,
                 s.mean_abs, s.max_abs);
     std::printf("  time %.1f ms; wrote %s\n", ms, a.out.c_str());
@@ -72,16 +73,21 @@ void run(const FairArgs& a) {
 }
 
 const cli::RegisterCommand reg{
-    "fair", "Fair a closed mesh in curvature space, toward a round sphere for genus 0 (Le Folgoc 2019)", [](CLI::App& sub) {
+    "fair", "Fair a closed mesh in curvature space, toward a round sphere for genus 0 (Le Folgoc 2019)",
+    [](CLI::App& sub) {
       auto a = std::make_shared<FairArgs>();
-      sub.add_option("MESH", a->mesh, "Closed oriented manifold mesh (OBJ, OFF, PLY, STL); genus > 0 uses the exactness constraints")->required();
+      sub.add_option(
+             "MESH", a->mesh,
+             "Closed oriented manifold mesh (OBJ, OFF, PLY, STL); genus > 0 uses the exactness constraints")
+          ->required();
       sub.add_option("--steps", a->steps, "Number of steps")->capture_default_str();
       sub.add_option("--tau", a->tau, "Fraction of the half-density removed per step, in (0, 1]")
           ->capture_default_str();
       sub.add_option("--area-constraint", a->eps,
                      "Tolerance of the log-area-distortion soft constraint (Appendix D); 0 = off")
           ->capture_default_str();
-      sub.add_option("--out", a->out, "Output mesh (same connectivity, texture coordinates kept)")->required();
+      sub.add_option("--out", a->out, "Output mesh (same connectivity, texture coordinates kept)")
+          ->required();
       sub.add_flag("--json", a->json, "Print energies, closure residuals, Q and area distortion as JSON");
       sub.add_flag("--quiet,-q", a->quiet, "Print nothing but errors");
       sub.footer(

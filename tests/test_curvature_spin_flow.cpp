@@ -1,7 +1,6 @@
 // Curvature-space spin transformations (Le Folgoc & Blanc 2019, eq. 8, Appendix D): identity for the
 // current half-density, fairing to a sphere with and without the area constraint, extrusion back.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <cstdio>
 
@@ -44,8 +43,8 @@ TEST_CASE("fairing an ellipsoid to a sphere and extruding it back", "[lefolgoc]"
   CHECK(fair.willmore.back() < 4 * M_PI * 1.04);
   const CurvatureFlow back = curvature_extrusion(fair.V, e.F, e.V, 4);
   const VertexDistances d = vertex_distances(e.V, back.V, Alignment::Similarity);
-  std::printf("ellipsoid: W %.4f -> %.4f; extrusion mean %.4g max %.4g of the diagonal\n", fair.willmore.front(),
-              fair.willmore.back(), mean_relative(d), d.max);
+  std::printf("ellipsoid: W %.4f -> %.4f; extrusion mean %.4g max %.4g of the diagonal\n",
+              fair.willmore.front(), fair.willmore.back(), mean_relative(d), d.max);
   CHECK(mean_relative(d) < 0.005);
 }
 
@@ -60,15 +59,15 @@ TEST_CASE("spot: fair to a sphere with and without the area constraint, extrude 
   const AreaDistortionSummary sf = area_distortion_summary(spot.V, spot.F, free.V);
   const AreaDistortionSummary sa = area_distortion_summary(spot.V, spot.F, ac.V);
   std::printf("spot fairing, 6 steps of tau 0.5 (W start %.3f):\n", free.willmore.front());
-  std::printf("  free:       W %.3f, Q max %.3f mean %.4f, |log area| max %.3f mean %.3f\n", free.willmore.back(),
-              qf.q_max, qf.q_mean, sf.max_abs, sf.mean_abs);
-  std::printf("  area eps %.1f: W %.3f, Q max %.3f mean %.4f, |log area| max %.3f mean %.3f\n", area.area_epsilon,
-              ac.willmore.back(), qa.q_max, qa.q_mean, sa.max_abs, sa.mean_abs);
+  std::printf("  free:       W %.3f, Q max %.3f mean %.4f, |log area| max %.3f mean %.3f\n",
+              free.willmore.back(), qf.q_max, qf.q_mean, sf.max_abs, sf.mean_abs);
+  std::printf("  area eps %.1f: W %.3f, Q max %.3f mean %.4f, |log area| max %.3f mean %.3f\n",
+              area.area_epsilon, ac.willmore.back(), qa.q_max, qa.q_mean, sa.max_abs, sa.mean_abs);
   CHECK(free.willmore.back() < 4 * M_PI * 1.05);
   CHECK(ac.willmore.back() < 4 * M_PI * 1.15);
   CHECK(sa.mean_abs < sf.mean_abs);  // the area constraint lowers the area distortion ...
   CHECK(sa.max_abs < sf.max_abs);
-  CHECK(qa.q_mean > qf.q_mean);      // ... at some cost in conformality
+  CHECK(qa.q_mean > qf.q_mean);  // ... at some cost in conformality
   const CurvatureFlow back = curvature_extrusion(free.V, spot.F, spot.V, 8);
   const VertexDistances d = vertex_distances(spot.V, back.V, Alignment::Similarity);
   std::printf("spot extrusion from its faired sphere, 8 steps: mean %.4g max %.4g of the diagonal, W %.3f\n",
@@ -91,7 +90,8 @@ TEST_CASE("curvature spin flows reject bad input", "[lefolgoc]") {
   CHECK_THROWS_AS(curvature_extrusion(s.V, s.F, icosphere(2).V, 2), Error);
 }
 
-TEST_CASE("genus 1: the exactness constraint keeps a torus closing up; without it a period opens", "[lefolgoc][torus]") {
+TEST_CASE("genus 1: the exactness constraint keeps a torus closing up; without it a period opens",
+          "[lefolgoc][torus]") {
   Mesh t = torus(2.0, 0.8, 32, 16);
   for (Eigen::Index v = 0; v < t.V.rows(); ++v) {  // break the symmetry: elliptic, with a bump
     t.V(v, 0) *= 1.4;
@@ -104,8 +104,8 @@ TEST_CASE("genus 1: the exactness constraint keeps a torus closing up; without i
     const EdgeConstraintNet net = edge_constraint_net(t.V, t.F);
     const double fac = 0.3;
     const CurvatureSpinStep st = curvature_spin_step(t.V, t.F, fac * net.h, {}, o);
-    std::printf("torus step (h -> %g h), exactness %s (%d constraints): closure residual %.3g, period %.3g\n", fac,
-                exact ? "on" : "off", st.exactness_constraints, st.closure, st.period);
+    std::printf("torus step (h -> %g h), exactness %s (%d constraints): closure residual %.3g, period %.3g\n",
+                fac, exact ? "on" : "off", st.exactness_constraints, st.closure, st.period);
     // The period (sum of the new edges against a harmonic form, relative) measures the failure to close
     // around the handles; the face-closure residual of the soft eq. 8 solve (~5% here, the step prescribes
     // a far-from-integrable h) is the same either way. Measured: period 0.0023 with, 0.060 without.

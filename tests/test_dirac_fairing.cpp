@@ -1,7 +1,6 @@
 // Dirac immersions and fast fairing (Ye et al. 2018, §5.3): the first Dirac immersion lowers the Willmore
 // energy (Thm. 5.1) at every step on spot, and a round sphere is (nearly) its own first immersion.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <cstdio>
 

@@ -1,7 +1,6 @@
 // Face edge-constraint nets (Ye et al. 2018, §4.1): bending angles, integrated mean curvature and the
 // discrete Willmore energy (eq. 11) against closed forms.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 
 #include "spinmotor/error.hpp"
@@ -14,7 +13,8 @@ TEST_CASE("unit icosphere: convex edges positive, H_i ~ Area_i, W within 0.5% of
   const Mesh s = icosphere(4);
   const EdgeConstraintNet net = edge_constraint_net(s.V, s.F);
   CHECK(net.theta.minCoeff() > 0.0);
-  CHECK((net.H.array() / net.area.array() - 1.0).abs().maxCoeff() < 0.15);  // irregular faces: per-face H/A within 11%
+  CHECK((net.H.array() / net.area.array() - 1.0).abs().maxCoeff() <
+        0.15);  // irregular faces: per-face H/A within 11%
   CHECK(net.H.sum() / net.area.sum() == Approx(1.0).epsilon(0.005));
   const double W = net.willmore;
   INFO("W(icosphere 4) = " << W << ", 4 pi = " << 4 * M_PI);
@@ -40,13 +40,15 @@ TEST_CASE("unit icosphere: convex edges positive, H_i ~ Area_i, W within 0.5% of
     }
 }
 
-TEST_CASE("Willmore torus R = sqrt 2, r = 1: W within 0.5% of 2 pi^2 at 128x64, converging", "[ye][willmore]") {
+TEST_CASE("Willmore torus R = sqrt 2, r = 1: W within 0.5% of 2 pi^2 at 128x64, converging",
+          "[ye][willmore]") {
   double prev_err = 1e9;
   for (const int u : {32, 64, 128}) {
     const Mesh t = torus(std::sqrt(2.0), 1.0, u, u / 2);
     const double W = face_willmore_energy(t.V, t.F);
     const double err = std::abs(W / (2 * M_PI * M_PI) - 1);
-    INFO("torus " << u << "x" << u / 2 << ": W = " << W << " (2 pi^2 = " << 2 * M_PI * M_PI << "), rel err " << err);
+    INFO("torus " << u << "x" << u / 2 << ": W = " << W << " (2 pi^2 = " << 2 * M_PI * M_PI << "), rel err "
+                  << err);
     CHECK(err < prev_err);
     prev_err = err;
     if (u == 128) CHECK(err < 0.005);

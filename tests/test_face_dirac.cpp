@@ -1,12 +1,10 @@
 // Face-based Dirac operators (Ye et al. 2018, §4.2–§4.3, §5.1): spectrum of the unit sphere (problem 26),
 // invariance of the intrinsic operator under isometric bending and of the extrinsic one under rigid
 // motions, and the spin transformation (eq. 15/21) with least-squares vertex recovery.
-#include <catch2/catch.hpp>
-
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 
 #include "spinmotor/error.hpp"
@@ -32,7 +30,8 @@ Eigen::VectorXd dense_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixXi& 
 
 }  // namespace
 
-TEST_CASE("intrinsic spectrum of the unit icosphere (problem 26): +-1 x4, +-2 x8, +-3 x12 within 0.5%", "[ye][dirac]") {
+TEST_CASE("intrinsic spectrum of the unit icosphere (problem 26): +-1 x4, +-2 x8, +-3 x12 within 0.5%",
+          "[ye][dirac]") {
   const Mesh s = icosphere(4);
   REQUIRE(s.V.rows() == 2562);
   DiracSpectrumOptions o;
@@ -55,7 +54,7 @@ TEST_CASE("intrinsic spectrum of the unit icosphere (problem 26): +-1 x4, +-2 x8
     CHECK(std::abs(got[i] / expected[i] - 1) < 0.005);
   }
   WARN("icosphere 4 intrinsic spectrum: worst relative error " << worst << " (first " << sp.eigenvalues[0]
-                                                                << ", last " << sp.eigenvalues[47] << ")");
+                                                               << ", last " << sp.eigenvalues[47] << ")");
 }
 
 TEST_CASE("extrinsic spectrum of the unit icosphere: constants removed, shifted by -H = -1", "[ye][dirac]") {
@@ -66,7 +65,8 @@ TEST_CASE("extrinsic spectrum of the unit icosphere: constants removed, shifted 
   CHECK(sp.constant_kernel == 4);
   // D_f = D − H on a sphere (eq. 5): the intrinsic ±1 become 0 (the constants) and −2 ... and +1 stays
   // nearest zero after the constants: expect |λ| near 1 or 2 only.
-  for (int i = 0; i < 4; ++i) CHECK(std::abs(std::abs(sp.eigenvalues[i]) - std::round(std::abs(sp.eigenvalues[i]))) < 0.03);
+  for (int i = 0; i < 4; ++i)
+    CHECK(std::abs(std::abs(sp.eigenvalues[i]) - std::round(std::abs(sp.eigenvalues[i]))) < 0.03);
 }
 
 TEST_CASE("intrinsic eigenvalues unchanged under an isometric fold of a flat grid; extrinsic ones change",
@@ -97,11 +97,13 @@ TEST_CASE("extrinsic and intrinsic eigenvalues unchanged under rigid motions, sc
   e.V.col(2) *= 0.6;
   const Eigen::VectorXd ref_e = dense_spectrum(e.V, e.F, FaceDiracKind::Extrinsic);
   const Eigen::VectorXd ref_i = dense_spectrum(e.V, e.F, FaceDiracKind::Intrinsic);
-  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.83, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(0.83, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
   const Eigen::MatrixXd Vr = (e.V * R.transpose()).rowwise() + Eigen::RowVector3d(0.3, -4.0, 2.2);
   CHECK((dense_spectrum(Vr, e.F, FaceDiracKind::Extrinsic) - ref_e).cwiseAbs().maxCoeff() < 1e-9);
   CHECK((dense_spectrum(Vr, e.F, FaceDiracKind::Intrinsic) - ref_i).cwiseAbs().maxCoeff() < 1e-9);
-  CHECK((dense_spectrum(2.5 * e.V, e.F, FaceDiracKind::Extrinsic) - ref_e / 2.5).cwiseAbs().maxCoeff() < 1e-9);
+  CHECK((dense_spectrum(2.5 * e.V, e.F, FaceDiracKind::Extrinsic) - ref_e / 2.5).cwiseAbs().maxCoeff() <
+        1e-9);
   // Constant spinors span the kernel of the extrinsic operator (4 zero eigenvalues).
   CHECK((ref_e.array().abs() < 1e-9).count() == 4);
   CHECK((ref_i.array().abs() < 1e-6).count() == 0);
@@ -130,7 +132,8 @@ TEST_CASE("face spin transformation: constants are similarities, eigenfunctions 
   const Eigen::VectorXd pf = face_vertex_averaging(s.F, s.V.rows()) * sp.eigenvectors.col(0);
   const Eigen::MatrixXd Y =
       face_spin_transform(s.V, s.F, unflatten_quaternions(pf), FaceDiracKind::Intrinsic, &res);
-  WARN("icosphere 2, first intrinsic eigenfunction: lambda " << sp.eigenvalues[0] << ", edge residual " << res);
+  WARN("icosphere 2, first intrinsic eigenfunction: lambda " << sp.eigenvalues[0] << ", edge residual "
+                                                             << res);
   CHECK(res < 0.05);
   CHECK(Y.allFinite());
 }
@@ -138,7 +141,8 @@ TEST_CASE("face spin transformation: constants are similarities, eigenfunctions 
 TEST_CASE("face Dirac operators reject bad input", "[ye][dirac]") {
   const Mesh s = icosphere(1);
   CHECK_THROWS_AS(face_dirac_spectrum(s.V, s.F, FaceDiracKind::Intrinsic, Eigen::VectorXd::Zero(3)), Error);
-  CHECK_THROWS_AS(face_spin_transform(s.V, s.F, Eigen::MatrixXd::Zero(s.F.rows(), 4), FaceDiracKind::Intrinsic),
+  CHECK_THROWS_AS(
+      face_spin_transform(s.V, s.F, Eigen::MatrixXd::Zero(s.F.rows(), 4), FaceDiracKind::Intrinsic), Error);
+  CHECK_THROWS_AS(face_spin_transform(s.V, s.F, Eigen::MatrixXd::Ones(3, 4), FaceDiracKind::Intrinsic),
                   Error);
-  CHECK_THROWS_AS(face_spin_transform(s.V, s.F, Eigen::MatrixXd::Ones(3, 4), FaceDiracKind::Intrinsic), Error);
 }

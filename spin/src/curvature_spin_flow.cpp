@@ -2,7 +2,6 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
-
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -10,6 +9,7 @@
 #include <vector>
 
 #include "spinmotor/error.hpp"
+#include "spinmotor/ga/quaternion.hpp"
 #include "spinmotor/mesh/cholesky_solver.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
 #include "spinmotor/mesh/mesh.hpp"
@@ -18,7 +18,6 @@
 #include "spinmotor/spin/edge_constraint_net.hpp"
 #include "spinmotor/spin/face_dirac_operator.hpp"
 #include "spinmotor/spin/quaternion_matrix.hpp"
-#include "spinmotor/ga/quaternion.hpp"
 
 namespace spinmotor {
 
@@ -26,8 +25,10 @@ namespace {
 
 void check_options(const CurvatureSpinOptions& o, const char* who) {
   std::ostringstream s;
-  if (!(o.alpha > 0) || !std::isfinite(o.alpha)) s << who << ": alpha must be > 0, got " << o.alpha;
-  else if (!(o.beta >= 0) || !std::isfinite(o.beta)) s << who << ": beta must be >= 0, got " << o.beta;
+  if (!(o.alpha > 0) || !std::isfinite(o.alpha))
+    s << who << ": alpha must be > 0, got " << o.alpha;
+  else if (!(o.beta >= 0) || !std::isfinite(o.beta))
+    s << who << ": beta must be >= 0, got " << o.beta;
   else if (!(o.area_epsilon >= 0) || !std::isfinite(o.area_epsilon))
     s << who << ": area epsilon must be >= 0, got " << o.area_epsilon;
   if (!s.str().empty()) throw Error(s.str());
@@ -83,13 +84,16 @@ Eigen::MatrixXd harmonic_one_forms(const Eigen::MatrixXi& F, Eigen::Index n, con
     t0.emplace_back(e, topo.E(e, 1), 1.0);
   }
   for (Eigen::Index f = 0; f < m; ++f)
-    for (int c = 0; c < 3; ++c) t1.emplace_back(f, topo.FE(f, c), F(f, (c + 1) % 3) == topo.E(topo.FE(f, c), 0) ? 1.0 : -1.0);
+    for (int c = 0; c < 3; ++c)
+      t1.emplace_back(f, topo.FE(f, c), F(f, (c + 1) % 3) == topo.E(topo.FE(f, c), 0) ? 1.0 : -1.0);
   Eigen::SparseMatrix<double> d0(k, n), d1(m, k);
   d0.setFromTriplets(t0.begin(), t0.end());
   d1.setFromTriplets(t1.begin(), t1.end());
   // Pin one vertex / one face (the constants span the kernels of the two graph Laplacians).
-  const Eigen::SparseMatrix<double> L0 = Eigen::SparseMatrix<double>(d0.transpose() * d0).bottomRightCorner(n - 1, n - 1);
-  const Eigen::SparseMatrix<double> L2 = Eigen::SparseMatrix<double>(d1 * d1.transpose()).bottomRightCorner(m - 1, m - 1);
+  const Eigen::SparseMatrix<double> L0 =
+      Eigen::SparseMatrix<double>(d0.transpose() * d0).bottomRightCorner(n - 1, n - 1);
+  const Eigen::SparseMatrix<double> L2 =
+      Eigen::SparseMatrix<double>(d1 * d1.transpose()).bottomRightCorner(m - 1, m - 1);
   CholeskySolver s0, s2;
   s0.analyze(L0);
   s0.factorize(L0);
@@ -118,7 +122,11 @@ CurvatureSpinStep curvature_spin_step(const Eigen::MatrixXd& V, const Eigen::Mat
                                       const CurvatureSpinOptions& options) {
   static constexpr const char* who = "curvature_spin_step";
   require(Mesh{V, F, {}, {}},
-          {.manifold = true, .oriented = true, .no_degenerate = true, .closed = true, .single_component = true,
+          {.manifold = true,
+           .oriented = true,
+           .no_degenerate = true,
+           .closed = true,
+           .single_component = true,
            .no_unreferenced = true},
           who);
   check_options(options, who);
@@ -150,7 +158,8 @@ CurvatureSpinStep curvature_spin_step(const Eigen::MatrixXd& V, const Eigen::Mat
     const Eigen::VectorXd a = A / total;
     const double target_total = target_area.sum();
     Eigen::VectorXd s(m);  // Appendix D eq. 15: log area distortion with the global scale factored out
-    for (Eigen::Index f = 0; f < m; ++f) s[f] = std::log(A[f] / target_area[f]) - std::log(total / target_total);
+    for (Eigen::Index f = 0; f < m; ++f)
+      s[f] = std::log(A[f] / target_area[f]) - std::log(total / target_total);
     c = 16.0 / (options.area_epsilon * options.area_epsilon);
     u = Eigen::VectorXd::Zero(4 * m);
     for (Eigen::Index f = 0; f < m; ++f) u[4 * f] = a[f];
@@ -203,7 +212,8 @@ CurvatureSpinStep curvature_spin_step(const Eigen::MatrixXd& V, const Eigen::Mat
     }
   }
   out.phi = unflatten_quaternions(one + x);
-  if (!out.phi.allFinite()) throw numerical_error(std::string(who) + ": the spin transformation is not finite");
+  if (!out.phi.allFinite())
+    throw numerical_error(std::string(who) + ": the spin transformation is not finite");
   // Periods (eq. 12, not linearised): |Im Σ_i φ̄_i Σ_j E_ij ω^k_ij φ_j| / Σ |Ẽ_ij ω^k_ij|.
   for (Eigen::Index k = 0; k < W.cols(); ++k) {
     Eigen::Vector3d P = Eigen::Vector3d::Zero();
@@ -211,22 +221,25 @@ CurvatureSpinStep curvature_spin_step(const Eigen::MatrixXd& V, const Eigen::Mat
     for (Eigen::Index f = 0; f < m; ++f)
       for (int cc = 0; cc < 3; ++cc) {
         const int g = net.adjacent(f, cc);
-        const Eigen::Vector4d Et = quaternion_block(ga::Quat(out.phi(f, 0), -out.phi(f, 1), -out.phi(f, 2), -out.phi(f, 3))) *
-                                   (quaternion_block(ga::Quat(net.hyperedge(V, F, f, cc)[0], net.hyperedge(V, F, f, cc)[1],
-                                                              net.hyperedge(V, F, f, cc)[2], net.hyperedge(V, F, f, cc)[3])) *
-                                    out.phi.row(g).transpose());
+        const Eigen::Vector4d Et =
+            quaternion_block(ga::Quat(out.phi(f, 0), -out.phi(f, 1), -out.phi(f, 2), -out.phi(f, 3))) *
+            (quaternion_block(ga::Quat(net.hyperedge(V, F, f, cc)[0], net.hyperedge(V, F, f, cc)[1],
+                                       net.hyperedge(V, F, f, cc)[2], net.hyperedge(V, F, f, cc)[3])) *
+             out.phi.row(g).transpose());
         P += omega(f, cc, k) * Et.tail<3>();
         norm += std::abs(omega(f, cc, k)) * Et.tail<3>().norm();
       }
     out.period = std::max(out.period, P.norm() / norm);
   }
-  out.V = face_spin_transform(V, F, out.phi, FaceDiracKind::Extrinsic, &out.closure);  // eq. 4, then eq. 9 (LS)
+  out.V =
+      face_spin_transform(V, F, out.phi, FaceDiracKind::Extrinsic, &out.closure);  // eq. 4, then eq. 9 (LS)
   return out;
 }
 
 namespace {
 
-Eigen::MatrixXd rescale(const Eigen::MatrixXd& X, const Eigen::MatrixXi& F, double area, const Eigen::RowVector3d& c) {
+Eigen::MatrixXd rescale(const Eigen::MatrixXd& X, const Eigen::MatrixXi& F, double area,
+                        const Eigen::RowVector3d& c) {
   const double a = face_areas(X, F).sum();
   if (!(a > 0) || !std::isfinite(a)) throw numerical_error("curvature flow: the surface collapsed");
   return ((X.rowwise() - X.colwise().mean()) * std::sqrt(area / a)).rowwise() + c;
@@ -260,11 +273,12 @@ CurvatureFlow curvature_fairing(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
 }
 
 CurvatureFlow curvature_extrusion(const Eigen::MatrixXd& V_sphere, const Eigen::MatrixXi& F,
-                                  const Eigen::MatrixXd& V_target, int steps, const CurvatureSpinOptions& options) {
+                                  const Eigen::MatrixXd& V_target, int steps,
+                                  const CurvatureSpinOptions& options) {
   if (V_target.rows() != V_sphere.rows()) {
     std::ostringstream s;
-    s << "curvature_extrusion: the target has " << V_target.rows() << " vertices, the sphere " << V_sphere.rows()
-      << " (same connectivity required)";
+    s << "curvature_extrusion: the target has " << V_target.rows() << " vertices, the sphere "
+      << V_sphere.rows() << " (same connectivity required)";
     throw Error(s.str());
   }
   if (steps < 1) throw Error("curvature_extrusion: steps must be >= 1, got " + std::to_string(steps));

@@ -16,8 +16,13 @@ namespace spinmotor {
 
 DiracImmersion dirac_immersion(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int which) {
   require(Mesh{V, F, {}, {}},
-          {.manifold = true, .oriented = true, .no_degenerate = true, .closed = true, .genus0 = true,
-           .single_component = true, .no_unreferenced = true},
+          {.manifold = true,
+           .oriented = true,
+           .no_degenerate = true,
+           .closed = true,
+           .genus0 = true,
+           .single_component = true,
+           .no_unreferenced = true},
           "dirac_immersion");
   if (which < 0 || which > 64) {
     std::ostringstream s;

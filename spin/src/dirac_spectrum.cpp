@@ -4,19 +4,18 @@
 #include <Spectra/SymGEigsSolver.h>
 
 #include <Eigen/Eigenvalues>
-
 #include <algorithm>
-#include <numeric>
 #include <cmath>
+#include <numeric>
 #include <sstream>
 #include <string>
 
+#include "cholmod_llt.hpp"
 #include "spinmotor/error.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 #include "spinmotor/mesh/validate.hpp"
 #include "spinmotor/spin/dirac_assembly.hpp"
 #include "spinmotor/spin/quaternion_matrix.hpp"
-#include "cholmod_llt.hpp"
 
 namespace spinmotor {
 
@@ -27,7 +26,7 @@ using LLT = detail::CholmodLLT<double>;
 // Spectra's B operation in Cholesky mode, B = A*A = Pᵀ L Lᵀ P: the two triangular solves, so that the
 // Lanczos iteration runs on the standard symmetric operator L⁻¹ P (B*A) Pᵀ L⁻ᵀ (no B-inner products).
 class NormalMatrixCholesky {
-public:
+ public:
   using Scalar = double;
   explicit NormalMatrixCholesky(const LLT& llt) : llt_(llt) {}
   Eigen::Index rows() const { return llt_.rows(); }
@@ -41,7 +40,7 @@ public:
     Eigen::Map<Eigen::VectorXd>(y, rows()) = llt_.solve(z, LLT::System::Pt);
   }
 
-private:
+ private:
   const LLT& llt_;
 };
 
@@ -55,8 +54,9 @@ struct PencilSolution {
   long iterations = 0, operations = 0;
 };
 
-PencilSolution solve_pencil(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& G, int count,
-                            const DiracSpectrumOptions& options, LLT::Ordering ordering, const char* who) {
+PencilSolution solve_pencil(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& G,
+                            int count, const DiracSpectrumOptions& options, LLT::Ordering ordering,
+                            const char* who) {
   const Eigen::Index Nr = K.rows();
   LLT chol(ordering);
   chol.analyze(K);
@@ -69,12 +69,14 @@ PencilSolution solve_pencil(const Eigen::SparseMatrix<double>& K, const Eigen::S
   // of an exactly multiple eigenvalue only through rounding and restarts: ask for two multiplets more
   // than wanted so that a late copy is not crowded out by the next eigenvalue.
   const int nev = static_cast<int>(std::min<Eigen::Index>(count + 8, Nr - 1));
-  const int ncv = options.ncv > 0 ? std::min<int>(options.ncv, static_cast<int>(Nr))
-                                  : static_cast<int>(std::min<Eigen::Index>(Nr, std::max(2 * nev + 1, nev + 40)));
+  const int ncv = options.ncv > 0
+                      ? std::min<int>(options.ncv, static_cast<int>(Nr))
+                      : static_cast<int>(std::min<Eigen::Index>(Nr, std::max(2 * nev + 1, nev + 40)));
   if (ncv <= nev) throw Error(std::string(who) + ": ncv must exceed count + 8");
   Spectra::SymGEigsSolver<Op, NormalMatrixCholesky, Spectra::GEigsMode::Cholesky> eigs(op, bop, nev, ncv);
   eigs.init();
-  eigs.compute(Spectra::SortRule::LargestMagn, options.max_iterations, options.tolerance, Spectra::SortRule::LargestMagn);
+  eigs.compute(Spectra::SortRule::LargestMagn, options.max_iterations, options.tolerance,
+               Spectra::SortRule::LargestMagn);
   if (eigs.info() != Spectra::CompInfo::Successful) {
     std::ostringstream s;
     s << who << ": Spectra did not converge (" << eigs.num_iterations() << " restarts, " << nev
@@ -90,10 +92,10 @@ PencilSolution solve_pencil(const Eigen::SparseMatrix<double>& K, const Eigen::S
   for (int t = 0; t < nev; ++t)
     for (Eigen::Index v = 0; v < Nr / 4; ++v) {
       const double a = X(4 * v, t), b = X(4 * v + 1, t), c = X(4 * v + 2, t), d = X(4 * v + 3, t);
-      S.block<4, 1>(4 * v, t) << a, b, c, d;                 // q
-      S.block<4, 1>(4 * v, nev + t) << -b, a, d, -c;        // q i
-      S.block<4, 1>(4 * v, 2 * nev + t) << -c, -d, a, b;    // q j
-      S.block<4, 1>(4 * v, 3 * nev + t) << -d, c, -b, a;    // q k
+      S.block<4, 1>(4 * v, t) << a, b, c, d;              // q
+      S.block<4, 1>(4 * v, nev + t) << -b, a, d, -c;      // q i
+      S.block<4, 1>(4 * v, 2 * nev + t) << -c, -d, a, b;  // q j
+      S.block<4, 1>(4 * v, 3 * nev + t) << -d, c, -b, a;  // q k
     }
   Eigen::MatrixXd KS(Nr, 4 * nev), GS(Nr, 4 * nev);
   for (int t = 0; t < 4 * nev; ++t) {
@@ -111,11 +113,13 @@ PencilSolution solve_pencil(const Eigen::SparseMatrix<double>& K, const Eigen::S
     if (ek.eigenvalues()[i] > 1e-10 * kmax) keep.push_back(i);
   Eigen::MatrixXd T(4 * nev, static_cast<Eigen::Index>(keep.size()));
   for (std::size_t i = 0; i < keep.size(); ++i)
-    T.col(static_cast<Eigen::Index>(i)) = ek.eigenvectors().col(keep[i]) / std::sqrt(ek.eigenvalues()[keep[i]]);
+    T.col(static_cast<Eigen::Index>(i)) =
+        ek.eigenvectors().col(keep[i]) / std::sqrt(ek.eigenvalues()[keep[i]]);
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eg(T.transpose() * Gs * T);
   const Eigen::VectorXd mu = eg.eigenvalues();
   const Eigen::Index nr = mu.size();
-  if (nr < count) throw numerical_error(std::string(who) + ": the Lanczos subspace is too small for the requested count");
+  if (nr < count)
+    throw numerical_error(std::string(who) + ": the Lanczos subspace is too small for the requested count");
   PencilSolution out;
   out.iterations = eigs.num_iterations();
   out.operations = eigs.num_operations();
@@ -139,10 +143,14 @@ PencilSolution solve_pencil(const Eigen::SparseMatrix<double>& K, const Eigen::S
 
 }  // namespace
 
-DiracSpectrum dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::VectorXd& rho_in,
-                             const DiracSpectrumOptions& options) {
+DiracSpectrum dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                             const Eigen::VectorXd& rho_in, const DiracSpectrumOptions& options) {
   require(Mesh{V, F, {}, {}},
-          {.manifold = true, .oriented = true, .no_degenerate = true, .closed = true, .single_component = true,
+          {.manifold = true,
+           .oriented = true,
+           .no_degenerate = true,
+           .closed = true,
+           .single_component = true,
            .no_unreferenced = true},
           "dirac_spectrum");
   const Eigen::Index m = F.rows();
@@ -207,7 +215,11 @@ namespace spinmotor {
 DiracSpectrum face_dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, FaceDiracKind kind,
                                   const Eigen::VectorXd& rho_in, const DiracSpectrumOptions& options) {
   require(Mesh{V, F, {}, {}},
-          {.manifold = true, .oriented = true, .no_degenerate = true, .single_component = true, .no_unreferenced = true},
+          {.manifold = true,
+           .oriented = true,
+           .no_degenerate = true,
+           .single_component = true,
+           .no_unreferenced = true},
           "face_dirac_spectrum");
   const Eigen::Index m = F.rows(), n = V.rows();
   if (rho_in.size() != 0 && rho_in.size() != m) {

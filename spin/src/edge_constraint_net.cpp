@@ -1,7 +1,6 @@
 #include "spinmotor/spin/edge_constraint_net.hpp"
 
 #include <Eigen/Geometry>
-
 #include <cmath>
 #include <sstream>
 
@@ -13,14 +12,15 @@
 
 namespace spinmotor {
 
-Eigen::Vector4d EdgeConstraintNet::hyperedge(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::Index f,
-                                             int c) const {
+Eigen::Vector4d EdgeConstraintNet::hyperedge(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                             Eigen::Index f, int c) const {
   const Eigen::RowVector3d e = V.row(F(f, (c + 2) % 3)) - V.row(F(f, (c + 1) % 3));
   return {2.0 * edge_H(f, c), e.x(), e.y(), e.z()};  // eq. 12
 }
 
 EdgeConstraintNet edge_constraint_net(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
-  require(Mesh{V, F, {}, {}}, {.manifold = true, .oriented = true, .no_degenerate = true}, "edge_constraint_net");
+  require(Mesh{V, F, {}, {}}, {.manifold = true, .oriented = true, .no_degenerate = true},
+          "edge_constraint_net");
   const Eigen::Index m = F.rows();
   EdgeConstraintNet net;
   net.area = face_areas(V, F);
@@ -45,16 +45,16 @@ EdgeConstraintNet edge_constraint_net(const Eigen::MatrixXd& V, const Eigen::Mat
       const double theta = std::atan2(ni.cross(nj).dot(ev) / len, ni.dot(nj));
       if (std::abs(theta) > M_PI - 1e-12) {
         std::ostringstream s;
-        s << "edge_constraint_net: faces " << f << " and " << g << " fold onto each other along edge (" << F(f, (c + 1) % 3)
-          << ", " << F(f, (c + 2) % 3) << ")";
+        s << "edge_constraint_net: faces " << f << " and " << g << " fold onto each other along edge ("
+          << F(f, (c + 1) % 3) << ", " << F(f, (c + 2) % 3) << ")";
         throw Error(s.str());
       }
       net.theta(f, c) = theta;
       net.edge_H(f, c) = 0.5 * len * std::tan(0.5 * theta);  // §4.1, H_ij = ½|e| tan(θ/2)
     }
-  net.H = net.edge_H.rowwise().sum();                    // eq. 9
-  net.h = net.H.array() / net.area.array().sqrt();       // eq. 10
-  net.willmore = net.h.squaredNorm();                    // eq. 11
+  net.H = net.edge_H.rowwise().sum();               // eq. 9
+  net.h = net.H.array() / net.area.array().sqrt();  // eq. 10
+  net.willmore = net.h.squaredNorm();               // eq. 11
   return net;
 }
 

@@ -23,7 +23,8 @@ Eigen::Vector4d qmul(const Eigen::Vector4d& p, const Eigen::Vector4d& q) {
 }
 Eigen::Vector4d qconj(const Eigen::Vector4d& q) { return {q[0], -q[1], -q[2], -q[3]}; }
 
-void add_block(std::vector<Eigen::Triplet<double>>& t, Eigen::Index r, Eigen::Index c, const Eigen::Matrix4d& B) {
+void add_block(std::vector<Eigen::Triplet<double>>& t, Eigen::Index r, Eigen::Index c,
+               const Eigen::Matrix4d& B) {
   for (int a = 0; a < 4; ++a)
     for (int b = 0; b < 4; ++b)
       if (B(a, b) != 0.0) t.emplace_back(4 * r + a, 4 * c + b, B(a, b));
@@ -48,7 +49,7 @@ Eigen::SparseMatrix<double> face_dirac_operator(const Eigen::MatrixXd& V, const 
       if (g < 0) continue;
       Eigen::Vector4d E = 0.5 * net.hyperedge(V, F, f, c);
       if (kind == FaceDiracKind::Intrinsic) E *= std::cos(0.5 * net.theta(f, c));  // eq. 19
-      add_block(t, f, g, quaternion_block(ga::Quat(E[0], E[1], E[2], E[3])));     // eq. 13 / 19
+      add_block(t, f, g, quaternion_block(ga::Quat(E[0], E[1], E[2], E[3])));      // eq. 13 / 19
     }
     if (kind == FaceDiracKind::Extrinsic)
       for (int a = 0; a < 4; ++a) t.emplace_back(4 * f + a, 4 * f + a, -net.H[f]);  // eq. 13: −H_i φ_i
@@ -65,7 +66,8 @@ Eigen::SparseMatrix<double> face_vertex_averaging(const Eigen::MatrixXi& F, Eige
     for (int c = 0; c < 3; ++c) {
       if (F(f, c) < 0 || F(f, c) >= n) {
         std::ostringstream s;
-        s << "face_vertex_averaging: face " << f << " has vertex index " << F(f, c) << " outside [0, " << n << ")";
+        s << "face_vertex_averaging: face " << f << " has vertex index " << F(f, c) << " outside [0, " << n
+          << ")";
         throw Error(s.str());
       }
       for (int a = 0; a < 4; ++a) t.emplace_back(4 * f + a, 4 * F(f, c) + a, 1.0 / 3.0);
@@ -75,8 +77,8 @@ Eigen::SparseMatrix<double> face_vertex_averaging(const Eigen::MatrixXi& F, Eige
   return A;
 }
 
-Eigen::MatrixXd face_spin_transform(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& phi,
-                                    FaceDiracKind kind, double* residual) {
+Eigen::MatrixXd face_spin_transform(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                    const Eigen::MatrixXd& phi, FaceDiracKind kind, double* residual) {
   const EdgeConstraintNet net = edge_constraint_net(V, F);
   const Eigen::Index n = V.rows(), m = F.rows();
   if (phi.rows() != m || phi.cols() != 4) {
@@ -88,7 +90,8 @@ Eigen::MatrixXd face_spin_transform(const Eigen::MatrixXd& V, const Eigen::Matri
   for (Eigen::Index f = 0; f < m; ++f)
     if (!phi.row(f).allFinite() || !(phi.row(f).norm() > 1e-300)) {
       std::ostringstream s;
-      s << "face_spin_transform: phi of face " << f << " is " << (phi.row(f).allFinite() ? "zero" : "not finite");
+      s << "face_spin_transform: phi of face " << f << " is "
+        << (phi.row(f).allFinite() ? "zero" : "not finite");
       throw Error(s.str());
     }
   (void)scale;
@@ -103,7 +106,7 @@ Eigen::MatrixXd face_spin_transform(const Eigen::MatrixXd& V, const Eigen::Matri
       if (g >= 0 && g < f) continue;
       const Eigen::Vector4d pf = phi.row(f).transpose();
       const Eigen::Vector4d pg = g >= 0 ? Eigen::Vector4d(phi.row(g).transpose()) : pf;
-      Eigen::Vector4d Et = qmul(qconj(pf), qmul(net.hyperedge(V, F, f, c), pg));  // eq. 15
+      Eigen::Vector4d Et = qmul(qconj(pf), qmul(net.hyperedge(V, F, f, c), pg));    // eq. 15
       if (kind == FaceDiracKind::Intrinsic) Et *= std::cos(0.5 * net.theta(f, c));  // eq. 21
       const Eigen::Index r = static_cast<Eigen::Index>(rhs.size());
       bt.emplace_back(r, F(f, (c + 2) % 3), 1.0);

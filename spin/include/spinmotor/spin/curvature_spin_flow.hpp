@@ -25,23 +25,22 @@
 // exactness constraint a torus step leaves a period (non-zero sum of Ẽ around a handle) that the least
 // squares cannot fit: it shows in CurvatureSpinStep::closure.
 #include <Eigen/Core>
-
 #include <vector>
 
 namespace spinmotor {
 
 struct CurvatureSpinOptions {
-  double alpha = 5.0;         ///< weight of the regulariser (φ−1)ᵀR(φ−1) of eq. 8 (> 0; ellipsoid study: 0.5 diverges
-                              ///< after 4 steps of τ = ½ without the Laplacian, 5–50 stable)
+  double alpha = 5.0;  ///< weight of the regulariser (φ−1)ᵀR(φ−1) of eq. 8 (> 0; ellipsoid study: 0.5
+                       ///< diverges after 4 steps of τ = ½ without the Laplacian, 5–50 stable)
   double beta = 1.0;          ///< weight of the face Laplacian in R (≥ 0)
   double area_epsilon = 0.0;  ///< tolerance ε of the area soft constraint (Appendix D); 0 = off
   bool exactness = true;      ///< genus > 0: the exactness constraints of Appendix C (ignored on spheres)
 };
 
 struct CurvatureSpinStep {
-  Eigen::MatrixXd V;        ///< n×3 new positions (centroid kept; scale from φ)
-  Eigen::MatrixXd phi;      ///< m×4 face spinors
-  double closure = 0.0;     ///< RMS misfit of the least-squares edge recovery / RMS edge (integrability)
+  Eigen::MatrixXd V;     ///< n×3 new positions (centroid kept; scale from φ)
+  Eigen::MatrixXd phi;   ///< m×4 face spinors
+  double closure = 0.0;  ///< RMS misfit of the least-squares edge recovery / RMS edge (integrability)
   int exactness_constraints = 0;  ///< number of real exactness constraints imposed (3 · 2 genus, or 0)
   double period = 0.0;  ///< genus > 0: max over harmonic forms ω of |Σ_e ẽ_e ω_e| / Σ_e |ẽ_e||ω_e| (0: exact)
 };
@@ -54,9 +53,9 @@ CurvatureSpinStep curvature_spin_step(const Eigen::MatrixXd& V, const Eigen::Mat
                                       const CurvatureSpinOptions& options = {});
 
 struct CurvatureFlow {
-  Eigen::MatrixXd V;              ///< n×3 final positions, rescaled to the input's total area
-  std::vector<double> willmore;   ///< face Willmore energy (Ye eq. 11) before each step and at the end
-  std::vector<double> closure;    ///< per step closure residual
+  Eigen::MatrixXd V;             ///< n×3 final positions, rescaled to the input's total area
+  std::vector<double> willmore;  ///< face Willmore energy (Ye eq. 11) before each step and at the end
+  std::vector<double> closure;   ///< per step closure residual
 };
 
 /// Fairing toward a round sphere (Le Folgoc §6): `steps` steps of δh = −τh (h̄ = (1 − τ) h on the current

@@ -7,15 +7,14 @@
 // fast fairing repeats it, recomputing the operator on each new surface, and reaches a round sphere in
 // a few steps (Fig. 15).
 #include <Eigen/Core>
-
 #include <vector>
 
 namespace spinmotor {
 
 struct DiracImmersion {
-  Eigen::MatrixXd V;         ///< n×3 new positions, rescaled to the input's total area and centroid
-  double eigenvalue = 0.0;   ///< λ of problem 26 (1/length)
-  double residual = 0.0;     ///< RMS edge misfit of the least-squares recovery / RMS edge (0: exact)
+  Eigen::MatrixXd V;        ///< n×3 new positions, rescaled to the input's total area and centroid
+  double eigenvalue = 0.0;  ///< λ of problem 26 (1/length)
+  double residual = 0.0;    ///< RMS edge misfit of the least-squares recovery / RMS edge (0: exact)
 };
 
 /// Inputs: V (n×3), F (m×3, counter-clockwise; closed, genus 0, connected manifold), which (0-based
@@ -24,9 +23,9 @@ struct DiracImmersion {
 DiracImmersion dirac_immersion(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int which = 0);
 
 struct DiracFairing {
-  Eigen::MatrixXd V;                ///< n×3 after the last step
-  std::vector<double> willmore;     ///< steps + 1 face Willmore energies (Ye eq. 11), the input's first
-  std::vector<double> residual;     ///< per step recovery residual
+  Eigen::MatrixXd V;             ///< n×3 after the last step
+  std::vector<double> willmore;  ///< steps + 1 face Willmore energies (Ye eq. 11), the input's first
+  std::vector<double> residual;  ///< per step recovery residual
 };
 
 /// Inputs: V, F as above, steps ≥ 0. Output: the faired surface and the energies along the way.

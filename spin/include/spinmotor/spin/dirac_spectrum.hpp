@@ -11,8 +11,8 @@
 // the constants, so the dropped rows of p follow from the others). On that complement A*A is
 // positive definite, and Spectra's Lanczos solver in Cholesky mode computes the eigenvalues μ = 1/γ of
 // largest magnitude of B*A x = μ A*A x, i.e. of the symmetric L⁻¹(B*A)L⁻ᵀ with A*A = LLᵀ (CHOLMOD),
-// each product costing one pair of triangular solves. The constants are reported separately (constant_kernel = 4, γ = 0). With ρ ≢ 0
-// nothing is removed.
+// each product costing one pair of triangular solves. The constants are reported separately (constant_kernel
+// = 4, γ = 0). With ρ ≢ 0 nothing is removed.
 #include <Eigen/Core>
 
 #include "spinmotor/spin/face_dirac_operator.hpp"
@@ -20,9 +20,10 @@
 namespace spinmotor {
 
 struct DiracSpectrumOptions {
-  int count = 20;             ///< number of eigenvalues nearest 0 (real multiplicities, constants excluded)
-  int ncv = 0;                ///< Lanczos basis size; 0 means min(N, max(2·count + 1, count + 40))
-  double tolerance = 1e-8;    ///< Spectra's relative tolerance on the Ritz values (then refined by Rayleigh–Ritz)
+  int count = 20;  ///< number of eigenvalues nearest 0 (real multiplicities, constants excluded)
+  int ncv = 0;     ///< Lanczos basis size; 0 means min(N, max(2·count + 1, count + 40))
+  double tolerance =
+      1e-8;  ///< Spectra's relative tolerance on the Ritz values (then refined by Rayleigh–Ritz)
   int max_iterations = 1000;  ///< Spectra restarts
   bool eigenvectors = false;  ///< also return the eigenvectors
 };
@@ -41,8 +42,8 @@ struct DiracSpectrum {
 /// spectrum above. The mesh must be a closed, oriented, connected manifold without degenerate faces
 /// or unreferenced vertices (B*A is Hermitian only on closed meshes); otherwise Error naming the
 /// defect. Error (numerical) if Spectra does not converge.
-DiracSpectrum dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::VectorXd& rho = {},
-                             const DiracSpectrumOptions& options = {});
+DiracSpectrum dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                             const Eigen::VectorXd& rho = {}, const DiracSpectrumOptions& options = {});
 
 /// Face-based operators (Ye et al. 2018, §4.3): the eigenvalues λ nearest zero of the generalized
 /// problem (26), Aᵀ D̂ M⁻¹ D̂ A φ = λ Aᵀ D̂ A φ, with D̂ = D − diag(ρ) the intrinsic (eq. 19) or extrinsic

@@ -38,7 +38,8 @@ Eigen::SparseMatrix<double> face_vertex_averaging(const Eigen::MatrixXi& F, Eige
 /// all edges (§4.3), centred at the original centroid. Exact (zero residual) when D φ = ρ φ for real ρ
 /// and the surface is simply connected. `residual`, if given, receives the RMS of the edge misfit
 /// relative to the RMS transformed edge length. Error naming the face if φ is not finite or zero.
-Eigen::MatrixXd face_spin_transform(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& phi,
-                                    FaceDiracKind kind, double* residual = nullptr);
+Eigen::MatrixXd face_spin_transform(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                    const Eigen::MatrixXd& phi, FaceDiracKind kind,
+                                    double* residual = nullptr);
 
 }  // namespace spinmotor
