@@ -34,6 +34,22 @@
 namespace spinmotor::cli {
 namespace {
 
+/// Cubic B-spline with 5 key motors (one per joint of the 5-joint chain).
+SplineDeformer::Options spline_options() {
+  SplineDeformer::Options o;
+  o.basis = SplineBasis::BSpline;
+  o.degree = 3;
+  o.keys = 5;
+  return o;
+}
+
+FabrikOptions fabrik_options() {
+  FabrikOptions o;
+  o.tolerance = 1e-6;
+  o.max_iterations = 100;
+  return o;
+}
+
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -188,10 +204,10 @@ void run_demo(Demo& d) {
   for (int i = 0; i < 5; ++i) chain.row(i) << 0.0, 0.0, i;
   const Eigen::Vector3d target(1.5, 0.5, 3.0);
   t0 = std::chrono::steady_clock::now();
-  SplineDeformer spline = SplineDeformer::bind(tube_mesh, ends, {.basis = SplineBasis::BSpline, .degree = 3, .keys = 5});
+  SplineDeformer spline = SplineDeformer::bind(tube_mesh, ends, spline_options());
   const double spline_bind_ms = ms_since(t0);
   t0 = std::chrono::steady_clock::now();
-  const FabrikResult ik = fabrik(chain, target, {.tolerance = 1e-6, .max_iterations = 100});
+  const FabrikResult ik = fabrik(chain, target, fabrik_options());
   const ChainFit fit = fit_chain(tube_mesh.V, spline.parameter(), chain, ik.joints, {.controls = 5, .degree = 3});
   Mesh bent = tube_mesh;
   spline.pose_generators(fit.fit.generators, bent.V);

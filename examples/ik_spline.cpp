@@ -36,6 +36,22 @@ namespace {
 
 constexpr double kRadius = 0.25, kLength = 4.0;
 
+/// Cubic B-spline with 5 key motors (one per joint of the 5-joint chain).
+SplineDeformer::Options spline_options() {
+  SplineDeformer::Options o;
+  o.basis = SplineBasis::BSpline;
+  o.degree = 3;
+  o.keys = 5;
+  return o;
+}
+
+FabrikOptions fabrik_options() {
+  FabrikOptions o;
+  o.tolerance = 1e-6;
+  o.max_iterations = 100;
+  return o;
+}
+
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 /// The vertices of a ring of the tube at height z (the generator places rings at exact heights).
@@ -78,7 +94,7 @@ int run(int argc, char** argv) {
   Eigen::MatrixXd rest_chain(5, 3);
   for (int i = 0; i < 5; ++i) rest_chain.row(i) << 0.0, 0.0, kLength * i / 4.0;
   const auto t_bind = Clock::now();
-  SplineDeformer deformer = SplineDeformer::bind(tube, ends, {.basis = SplineBasis::BSpline, .degree = 3, .keys = 5});
+  SplineDeformer deformer = SplineDeformer::bind(tube, ends, spline_options());
   const double bind_ms = ms_since(t_bind);
 
   // ---- pose: one target per frame ----------------------------------------------------------------
@@ -90,7 +106,7 @@ int run(int argc, char** argv) {
   for (int f = 0; f < frames; ++f) {
     const Eigen::Vector3d target = target_at(static_cast<double>(f) / frames);
     const auto t0 = Clock::now();
-    const FabrikResult ik = fabrik(chain, target, {.tolerance = 1e-6, .max_iterations = 100});
+    const FabrikResult ik = fabrik(chain, target, fabrik_options());
     const double ik_ms = ms_since(t0);
     const auto t1 = Clock::now();
     const ChainFit fit = fit_chain(tube.V, deformer.parameter(), rest_chain, ik.joints, {.controls = 5, .degree = 3});
