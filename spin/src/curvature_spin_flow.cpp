@@ -221,11 +221,10 @@ CurvatureSpinStep curvature_spin_step(const Eigen::MatrixXd& V, const Eigen::Mat
     for (Eigen::Index f = 0; f < m; ++f)
       for (int cc = 0; cc < 3; ++cc) {
         const int g = net.adjacent(f, cc);
+        const Eigen::Vector4d E = net.hyperedge(V, F, f, cc), pf = out.phi.row(f).transpose();
         const Eigen::Vector4d Et =
-            quaternion_block(ga::Quat(out.phi(f, 0), -out.phi(f, 1), -out.phi(f, 2), -out.phi(f, 3))) *
-            (quaternion_block(ga::Quat(net.hyperedge(V, F, f, cc)[0], net.hyperedge(V, F, f, cc)[1],
-                                       net.hyperedge(V, F, f, cc)[2], net.hyperedge(V, F, f, cc)[3])) *
-             out.phi.row(g).transpose());
+            quaternion_block(ga::Quat(pf[0], -pf[1], -pf[2], -pf[3])) *
+            (quaternion_block(ga::Quat(E[0], E[1], E[2], E[3])) * out.phi.row(g).transpose());
         P += omega(f, cc, k) * Et.tail<3>();
         norm += std::abs(omega(f, cc, k)) * Et.tail<3>().norm();
       }

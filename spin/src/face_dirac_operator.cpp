@@ -86,7 +86,6 @@ Eigen::MatrixXd face_spin_transform(const Eigen::MatrixXd& V, const Eigen::Matri
     s << "face_spin_transform: phi is " << phi.rows() << "x" << phi.cols() << ", expected " << m << "x4";
     throw Error(s.str());
   }
-  const double scale = phi.rowwise().norm().maxCoeff();
   for (Eigen::Index f = 0; f < m; ++f)
     if (!phi.row(f).allFinite() || !(phi.row(f).norm() > 1e-300)) {
       std::ostringstream s;
@@ -94,7 +93,6 @@ Eigen::MatrixXd face_spin_transform(const Eigen::MatrixXd& V, const Eigen::Matri
         << (phi.row(f).allFinite() ? "zero" : "not finite");
       throw Error(s.str());
     }
-  (void)scale;
   // One equation per undirected edge: from the face that traverses it (the lower face index when shared).
   std::vector<Eigen::Triplet<double>> bt;
   std::vector<Eigen::Vector3d> rhs;
