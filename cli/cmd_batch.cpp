@@ -1,6 +1,6 @@
 // `spinmotor batch`: run one subcommand over many meshes, one process per mesh, N at a time, resumable.
 //
-//   spinmotor batch --run "SUBCOMMAND ARGS" --out-dir DIR [--jobs N] [--suffix .obj] [--list FILE] \
+//   spinmotor batch --run "SUBCOMMAND ARGS" --out-dir DIR [--jobs N] [--suffix .obj] [--list FILE]
 //       [--json] [-q] MESH...
 // ARGS contain {in} and {out} ({stem} is the input's file stem); --run is split into words like a
 // shell would (quotes and backslashes; no expansion).

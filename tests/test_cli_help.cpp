@@ -48,13 +48,22 @@ const fs::path kData = SPINMOTOR_TEST_DATA_DIR;
 }  // namespace
 
 TEST_CASE("every subcommand's --help shows examples", "[cli]") {
-  for (const char* cmd : {"batch", "check", "deform", "demo", "flow", "metrics", "snap", "spectrum", "spin"}) {
+  for (const char* cmd : {"batch", "check", "deform", "demo", "extrude", "fair", "flow", "metrics", "snap", "spectrum", "spin", "willmore"}) {
     const Run r = run_cli(std::string(cmd) + " --help");
     CAPTURE(cmd, r.out);
     CHECK(r.code == 0);
     CHECK_THAT(r.out, Catch::Contains("Example"));
     CHECK_THAT(r.out, Catch::Contains(std::string("spinmotor ") + cmd));
   }
+}
+
+TEST_CASE("render --help shows examples when the renderer is built", "[cli]") {
+  const Run r = run_cli("render --help");
+  if (r.code != 0) {
+    WARN("spinmotor render is not in this build (SPINMOTOR_BUILD_VIEWER=OFF)");
+    return;
+  }
+  CHECK_THAT(r.out, Catch::Contains("Example"));
 }
 
 TEST_CASE("version flag and usage errors (exit 2)", "[cli]") {

@@ -362,8 +362,8 @@ struct SpinTransform::Impl {
   explicit Impl(const SpinTransformOptions& o)
       : opt(o),
         chol({.ordering = CholeskySolver::Ordering::Natural, .supernodal = o.supernodal}),
-        poisson({.ordering = CholeskySolver::Ordering::Natural, .supernodal = true}),
-        cchol(ComplexLLT::Ordering::Natural, o.supernodal) {}
+        cchol(ComplexLLT::Ordering::Natural, o.supernodal),
+        poisson({.ordering = CholeskySolver::Ordering::Natural, .supernodal = true}) {}
 };
 
 SpinTransform::SpinTransform(const Mesh& mesh, const SpinTransformOptions& options)
