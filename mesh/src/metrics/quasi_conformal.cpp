@@ -1,5 +1,7 @@
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
 
+#include <algorithm>
+
 #include "metric_checks.hpp"
 
 namespace spinmotor {
@@ -44,7 +46,10 @@ Eigen::VectorXd quasi_conformal_error(const Eigen::MatrixXd& V_rest, const Eigen
     // A maps (l1, 0) ↦ (l1', 0) and (p, h) ↦ (p', h'): A = [a b; 0 d] (Crane et al. 2011, §6.1).
     const double a = s.l1 / r.l1, d = s.h / r.h, b = (s.p - a * r.p) / r.h;
     const double E = 0.5 * std::hypot(a + d, b), G = 0.5 * std::hypot(a - d, b);
-    Q[f] = (E + G) * (E + G) / (a * d);
+    // σ1/σ2 = (E + G)² / (σ1 σ2) with σ1 σ2 = det A = a d: no cancellation when G ≈ E (strong
+    // anisotropy), but for a similarity (G ≈ 0) a d and E² round differently, so the quotient can land
+    // one ulp below 1 (seen under -O1 -fsanitize, other FMA contractions); Q ≥ 1 by definition.
+    Q[f] = std::max(1.0, (E + G) * (E + G) / (a * d));
   }
   for (Eigen::Index f = 0; f < m; ++f)
     if (Q[f] == kRestDegenerate)
