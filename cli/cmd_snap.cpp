@@ -3,8 +3,15 @@
 // (Crane et al. 2011 §7.2, spin/conformal_snap.hpp). EDITED may come from any tool as long as it keeps
 // the rest mesh's vertex order and faces. The output keeps EDITED's texture coordinates (or REST's if
 // EDITED has none).
+//
+// --mode shape (issue 9's second snap mode, an experiment): instead of §7.2, extrude from the rest mesh
+// toward the edit's per-face half-density h* and areas A* (Le Folgoc et al. 2019 §6, spin/
+// curvature_spin_flow.hpp) in --steps steps, then place the result on the edit by the best similarity.
+// On the 90°-bent sausage it keeps 67% of the bend at Q_mean 1.013 (the §7.2 snap: 46%, Q_mean 1.008);
+// closed meshes only.
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -18,6 +25,7 @@
 #include "spinmotor/mesh/metrics/distances.hpp"
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
+#include "spinmotor/spin/curvature_spin_flow.hpp"
 
 namespace {
 
@@ -27,9 +35,9 @@ const cli::RegisterCommand reg{
     "snap", "Snap an edited mesh onto its nearest spin transformation (conformal deformation) of the rest mesh",
     [](CLI::App& sub) {
       struct Args {
-        std::string rest, edited, out, problem = "standard", align = "similarity";
-        double tradeoff = 1.0;
-        int smooth = 0;
+        std::string rest, edited, out, problem = "standard", align = "similarity", mode = "spin";
+        double tradeoff = 1.0, area_constraint = 0.0;
+        int smooth = 0, steps = 4;
         bool json = false, quiet = false;
       };
       auto a = std::make_shared<Args>();
@@ -48,6 +56,15 @@ const cli::RegisterCommand reg{
       sub.add_option("--smooth-rho", a->smooth,
                      "Passes of face-neighbour averaging of rho before the solve (for creased edits, e.g. "
                      "linear-blend-skinned elbows, whose rho has spikes)")
+          ->check(CLI::NonNegativeNumber)
+          ->capture_default_str();
+      sub.add_option("--mode", a->mode,
+                     "spin: nearest spin transformation (§7.2); shape: extrude toward the edit's curvature "
+                     "(Le Folgoc et al. 2019; keeps more of a large bend, closed meshes)")
+          ->check(CLI::IsMember({"spin", "shape"}))
+          ->capture_default_str();
+      sub.add_option("--steps", a->steps, "--mode shape: extrusion steps")->check(CLI::Range(1, 1000))->capture_default_str();
+      sub.add_option("--area-constraint", a->area_constraint, "--mode shape: area soft constraint epsilon (0 = off)")
           ->check(CLI::NonNegativeNumber)
           ->capture_default_str();
       sub.add_flag("--json", a->json, "Print sizes, quality and timings as JSON");
@@ -75,6 +92,41 @@ const cli::RegisterCommand reg{
               << rest.F(f, 2) << ") (the edit must keep the faces)";
             throw Error(m.str());
           }
+        if (a->mode == "shape") {
+          const auto t0 = std::chrono::steady_clock::now();
+          CurvatureSpinOptions co;
+          co.alpha = 0.05;  // the extrusion default (curvature_spin_flow.hpp)
+          co.area_epsilon = a->area_constraint;
+          const CurvatureFlow flow = curvature_extrusion(rest.V, rest.F, edited.V, a->steps, co);
+          const Similarity T = umeyama_fit(flow.V, edited.V);
+          Mesh out = edited.has_uv() ? edited : rest;
+          out.V = T.apply(flow.V);
+          const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+          const QuasiConformalSummary q0 = quasi_conformal_summary(rest.V, rest.F, edited.V);
+          const QuasiConformalSummary q1 = quasi_conformal_summary(rest.V, rest.F, out.V);
+          const VertexDistances dist = vertex_distances(edited.V, out.V, Alignment::None);
+          write_mesh(a->out, out);
+          if (a->json) {
+            std::cout << nlohmann::json{{"mode", "shape"},          {"vertices", rest.V.rows()},
+                                        {"faces", rest.F.rows()},   {"steps", a->steps},
+                                        {"area_constraint", a->area_constraint},
+                                        {"q_mean_before", q0.q_mean}, {"q_max_before", q0.q_max},
+                                        {"q_mean_after", q1.q_mean},  {"q_max_after", q1.q_max},
+                                        {"rms_edit_to_snap", dist.rms}, {"max_edit_to_snap", dist.max},
+                                        {"closure", flow.closure},  {"total_ms", ms}}
+                             .dump(2)
+                      << '\n';
+          } else if (!a->quiet) {
+            std::printf("snap (shape mode, %d extrusion steps): %lld vertices, %lld faces\n", a->steps,
+                        static_cast<long long>(rest.V.rows()), static_cast<long long>(rest.F.rows()));
+            std::printf("  Q_mean before %.6f, after %.6f (Q_max %.4g -> %.4g)\n", q0.q_mean, q1.q_mean, q0.q_max,
+                        q1.q_max);
+            std::printf("  RMS distance edit-snap %.4g of the bounding-box diagonal (max %.4g); %.0f ms\n", dist.rms,
+                        dist.max, ms);
+            std::printf("  wrote %s\n", a->out.c_str());
+          }
+          return;
+        }
         ConformalSnapOptions o;
         o.tradeoff = a->tradeoff;
         o.rho_smoothing = a->smooth;

@@ -415,7 +415,7 @@ TEST_CASE("ARAP on ogre.obj: the first defect is named instead of a numerical fa
   }
 }
 
-TEST_CASE("ARAP: orderings and factorizations give the same solution; all-constrained meshes", "[arap]") {
+TEST_CASE("ARAP: orderings and factorizations give the same solution, all-constrained meshes", "[arap]") {
   const Mesh m = tube(0.5, 3.0, 30, 12);
   const std::vector<Handle> hs = {z_slab(m, 0.0, 0.05, "bottom"), z_slab(m, 0.95, 1.0, "top")};
   const std::vector<ga::Mot> motors = {ga::Mot(1, 0, 0, 0, 0, 0, 0, 0), rigid({1, 0, 0}, 40.0, {0, 0.5, 0})};

@@ -108,7 +108,7 @@ TEST_CASE("check: unreadable files give exit 2, a clear error and no output", "[
   }
 }
 
-TEST_CASE("check: defect-free meshes give exit 0; boundaries and genus are properties", "[cli][check]") {
+TEST_CASE("check: defect-free meshes give exit 0, boundaries and genus are properties", "[cli][check]") {
   const Run t = run_cli("check --json '" + (kData / "tetrahedron.obj").string() + "'");
   CHECK(t.code == 0);
   CHECK(t.err.empty());
@@ -135,7 +135,7 @@ TEST_CASE("check: defect-free meshes give exit 0; boundaries and genus are prope
   CHECK(jc["first"]["non_manifold_vertex"] == 253);
 }
 
-TEST_CASE("check: the table marks defects; usage errors exit 2", "[cli][check]") {
+TEST_CASE("check: the table marks defects, usage errors exit 2", "[cli][check]") {
   const Run t = run_cli("check '" + (kData / "bad" / "nonmanifold_edge.obj").string() + "'");
   CHECK(t.code == 2);
   CHECK_THAT(t.out,

@@ -58,11 +58,12 @@ TEST_CASE("every subcommand's --help shows examples", "[cli]") {
 }
 
 TEST_CASE("render --help shows examples when the renderer is built", "[cli]") {
-  const Run r = run_cli("render --help");
-  if (r.code != 0) {
+  if (run_cli("--help").out.find(" render ") == std::string::npos) {
     WARN("spinmotor render is not in this build (SPINMOTOR_BUILD_VIEWER=OFF)");
     return;
   }
+  const Run r = run_cli("render --help");
+  CHECK(r.code == 0);
   CHECK_THAT(r.out, Catch::Contains("Example"));
 }
 

@@ -90,7 +90,7 @@ TEST_CASE("curvature spin flows reject bad input", "[lefolgoc]") {
   CHECK_THROWS_AS(curvature_extrusion(s.V, s.F, icosphere(2).V, 2), Error);
 }
 
-TEST_CASE("genus 1: the exactness constraint keeps a torus closing up; without it a period opens",
+TEST_CASE("genus 1: the exactness constraint keeps a torus closing up, without it a period opens",
           "[lefolgoc][torus]") {
   Mesh t = torus(2.0, 0.8, 32, 16);
   for (Eigen::Index v = 0; v < t.V.rows(); ++v) {  // break the symmetry: elliptic, with a bump

@@ -129,7 +129,7 @@ TEST_CASE("spectrum of the unit icosphere: 0 x4, +1 x8, -2 x4, +2 x12 (eq. 6, §
   for (int t = 12; t < 24; ++t) CHECK(s.eigenvalues[t] == Approx(2.0).epsilon(0.01));
 }
 
-TEST_CASE("Dirac eigenvalues scale as 1/radius; eigenvectors solve eq. 6", "[dirac][spectrum]") {
+TEST_CASE("Dirac eigenvalues scale as 1/radius, eigenvectors solve eq. 6", "[dirac][spectrum]") {
   DiracSpectrumOptions opt;
   opt.count = 8;
   opt.eigenvectors = true;

@@ -64,7 +64,7 @@ fs::path write_bump(const fs::path& dir) {
 
 }  // namespace
 
-TEST_CASE("flow --willmore lowers the energy at every step; --minimal removes it", "[cli][flow]") {
+TEST_CASE("flow --willmore lowers the energy at every step, --minimal removes it", "[cli][flow]") {
   TempDir tmp;
   const fs::path in = write_bump(tmp.path);
   const Run r = run_cli(

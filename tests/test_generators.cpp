@@ -159,7 +159,7 @@ TEST_CASE("uv_sphere: rings·sectors + 2 vertices, closed, outward, sphere volum
   CHECK(min_face_area(big) > 0);
 }
 
-TEST_CASE("capsule of length 0 is the uv_sphere; capsule is closed and its volume is right", "[generators]") {
+TEST_CASE("capsule of length 0 is the uv_sphere, capsule is closed and its volume is right", "[generators]") {
   const Mesh s = uv_sphere(9, 16, 0.7), c0 = capsule(0.7, 0.0, 9, 16);
   REQUIRE(s.V.rows() == c0.V.rows());
   CHECK((s.V - c0.V).cwiseAbs().maxCoeff() < 1e-14);
@@ -187,7 +187,7 @@ TEST_CASE("capsule of length 0 is the uv_sphere; capsule is closed and its volum
   CHECK_THAT(signed_volume(m), WithinRel(revolution_volume(profile_of(m, 120, 96), 96), 1e-12));
 }
 
-TEST_CASE("tube: open has two boundary loops and χ = 0; capped is a closed sphere", "[generators]") {
+TEST_CASE("tube: open has two boundary loops and χ = 0, capped is a closed sphere", "[generators]") {
   const Mesh open = tube(0.5, 2.0, 400, 200, false);  // the "80k-vertex tube"
   CHECK(open.V.rows() == 80000);
   CHECK(open.F.rows() == 2 * 399 * 200);

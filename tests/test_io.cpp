@@ -97,7 +97,7 @@ std::string error_of(const std::function<void()>& f) {
 
 // ---- AtomicFile ----------------------------------------------------------------------------------
 
-TEST_CASE("AtomicFile: commit publishes the file; parent directories are created", "[io][atomic]") {
+TEST_CASE("AtomicFile: commit publishes the file, parent directories are created", "[io][atomic]") {
   TempDir dir;
   const fs::path target = dir / "a/b/out.txt";
   {
@@ -155,7 +155,7 @@ TEST_CASE("AtomicFile: unwritable targets throw Error naming the path", "[io][at
 
 // ---- formats -------------------------------------------------------------------------------------
 
-TEST_CASE("mesh_format: by extension, case-insensitive; anything else is an Error", "[io]") {
+TEST_CASE("mesh_format: by extension, case-insensitive, anything else is an Error", "[io]") {
   CHECK(mesh_format("a/b.obj") == MeshFormat::Obj);
   CHECK(mesh_format("B.OBJ") == MeshFormat::Obj);
   CHECK(mesh_format("x.Off") == MeshFormat::Off);
@@ -169,7 +169,7 @@ TEST_CASE("mesh_format: by extension, case-insensitive; anything else is an Erro
   CHECK(dir.entries() == 0);
 }
 
-TEST_CASE("round trips: OBJ, OFF and ASCII/binary PLY are bit-exact; OBJ keeps UV and FUV", "[io]") {
+TEST_CASE("round trips: OBJ, OFF and ASCII/binary PLY are bit-exact, OBJ keeps UV and FUV", "[io]") {
   TempDir dir;
   const Mesh m = octahedron();
   SECTION("obj") {

@@ -120,7 +120,7 @@ TEST_CASE("log area distortion of a half-stretched grid: log a − log((1+a)/2) 
   CHECK_THAT(s.global_scale, WithinRel((1 + a) / 2, 1e-14));
 }
 
-TEST_CASE("collapsed deformed faces give Q = inf; degenerate rest faces are errors", "[metrics]") {
+TEST_CASE("collapsed deformed faces give Q = inf, degenerate rest faces are errors", "[metrics]") {
   const Mesh g = grid(Eigen::Vector2d(1.0, 1.0), Eigen::Vector2i(4, 4));
   Eigen::MatrixXd Vd = g.V;
   Vd.row(g.F(5, 2)) = 0.5 * (Vd.row(g.F(5, 0)) + Vd.row(g.F(5, 1)));  // face 5 becomes a segment
@@ -150,7 +150,7 @@ TEST_CASE("collapsed deformed faces give Q = inf; degenerate rest faces are erro
   CHECK_THROWS_WITH(log_edge_distortion(g.V, Fbad, g.V), Catch::Contains("face 4"));
 }
 
-TEST_CASE("umeyama recovers a known similarity; rigid fit never reflects", "[metrics][distances]") {
+TEST_CASE("umeyama recovers a known similarity, rigid fit never reflects", "[metrics][distances]") {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> U(-1, 1);
   Eigen::MatrixXd P(50, 3);
@@ -204,7 +204,7 @@ TEST_CASE("vertex distances: alignment removes exactly what it should", "[metric
   CHECK_THROWS_WITH(parse_alignment("affine"), Catch::Contains("affine"));
 }
 
-TEST_CASE("point-to-surface distances match brute force; Hausdorff of translated copies",
+TEST_CASE("point-to-surface distances match brute force, Hausdorff of translated copies",
           "[metrics][hausdorff]") {
   const Mesh s = icosphere(3);
   std::mt19937 rng(9);

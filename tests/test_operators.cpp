@@ -112,7 +112,7 @@ TEST_CASE("cotangent Laplacian annihilates linear functions at interior vertices
   CHECK(boundary > 1e-3);  // the boundary rows carry the flux (Neumann term): not annihilated
 }
 
-TEST_CASE("icosphere area converges to 4πr² with order 2; mass sums to the area", "[operators]") {
+TEST_CASE("icosphere area converges to 4πr² with order 2, mass sums to the area", "[operators]") {
   const double r = 1.3;
   double err[3];
   for (int k = 0; k < 3; ++k) {
@@ -176,7 +176,7 @@ TEST_CASE("mean curvature normal: M⁻¹ L V → 2HN on the icosphere", "[operat
   CHECK(prev < 5e-3);
 }
 
-TEST_CASE("gradient and divergence: −D·G equals the cotangent Laplacian; linear functions have exact gradients",
+TEST_CASE("gradient and divergence: −D·G equals the cotangent Laplacian, linear functions have exact gradients",
           "[operators]") {
   for (const Mesh& m : {icosphere(2, 0.8), perturbed_grid()}) {
     const SpMat G = gradient(m.V, m.F), D = divergence(m.V, m.F);

@@ -194,7 +194,7 @@ TEST_CASE("the checkerboard follows the texture coordinates", "[render]") {
   CHECK(switches == 4);
 }
 
-TEST_CASE("spinmotor render writes a PNG; bad input exits 2 without output", "[render][cli]") {
+TEST_CASE("spinmotor render writes a PNG, bad input exits 2 without output", "[render][cli]") {
   const auto dir = std::filesystem::temp_directory_path() / "spinmotor_test_render";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);

@@ -239,7 +239,7 @@ TEST_CASE("running a scene in process: handles exact, outputs complete", "[scene
   CHECK((q.V - r.frames[0].V).cwiseAbs().maxCoeff() == 0.0);
 }
 
-TEST_CASE("animations number their outputs; snap metrics per frame", "[scene][run]") {
+TEST_CASE("animations number their outputs, snap metrics per frame", "[scene][run]") {
   TempDir tmp;
   const Scene s = load_scene(kScenes / "frames_tube.json");
   CHECK(s.animated);

@@ -122,7 +122,7 @@ TEST_CASE("ffd scene: controls posed by name, metrics count the controls", "[sce
   CHECK(e.err.find("ffd[2,0,0]") != std::string::npos);
 }
 
-TEST_CASE("cage scene: good cage runs; open or inconsistently oriented cages exit 2 without output", "[scene][cage]") {
+TEST_CASE("cage scene: good cage runs, open or inconsistently oriented cages exit 2 without output", "[scene][cage]") {
   TempDir t;
   Mesh cage = icosphere(1, 2.0);
   cage.UV.resize(0, 2);
@@ -164,7 +164,7 @@ TEST_CASE("cage scene: good cage runs; open or inconsistently oriented cages exi
   CHECK(!fs::exists(t.path / "out"));
 }
 
-TEST_CASE("skin scene: harmonic weights run; bad weight files exit 2 naming file and line", "[scene][skin]") {
+TEST_CASE("skin scene: harmonic weights run, bad weight files exit 2 naming file and line", "[scene][skin]") {
   TempDir t;
   {
     const CliResult r = deform(t.path, skin_scene());

@@ -90,7 +90,7 @@ TEST_CASE("skin: the rest frames give the rest mesh, one rigid motion moves it r
   }
 }
 
-TEST_CASE("skin: at most 4 influences, renormalized; fast blends equal ga::blend", "[skin]") {
+TEST_CASE("skin: at most 4 influences, renormalized, fast blends equal ga::blend", "[skin]") {
   const Mesh m = torus(2.0, 0.6, 30, 16);
   std::mt19937 rng(8);
   const auto bones = six_bones();

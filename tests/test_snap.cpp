@@ -114,7 +114,7 @@ TEST_CASE("snapping a similarity-transformed mesh returns it", "[snap]") {
   CHECK((rt.V - edit).cwiseAbs().maxCoeff() / diag(edit) < 1e-8);
 }
 
-TEST_CASE("an exact spin transformation is recovered, with rho up to a constant; eq. 6 against eq. 7", "[snap]") {
+TEST_CASE("an exact spin transformation is recovered, with rho up to a constant, eq. 6 against eq. 7", "[snap]") {
   const Mesh m = icosphere(3);  // unit size
   const VectorXd rho = smooth_rho(m, 0.1);
   const SpinTransformResult ex = spin_transform(m, rho);
@@ -204,7 +204,7 @@ TEST_CASE("a twisted sausage snaps back to the untwisted one (Fig. 21)", "[snap]
   CHECK(max_rest <= 0.005);
 }
 
-TEST_CASE("a bent sausage snaps to a near-conformal shape; the tradeoff interpolates", "[snap]") {
+TEST_CASE("a bent sausage snaps to a near-conformal shape, the tradeoff interpolates", "[snap]") {
   const Mesh m = sausage();
   const MatrixXd edit = bend(m.V, 90.0);
   const double q0 = q_mean(m, edit), a_edit = bend_angle(m.V, edit);

@@ -132,3 +132,27 @@ TEST_CASE("snap: mismatched or bad input exits 2 and writes nothing", "[cli][sna
   CHECK_THAT(g.err, Catch::Contains("closed"));
   CHECK_FALSE(fs::exists(tmp.path / "o.obj"));
 }
+
+TEST_CASE("snap --mode shape: an exact spin transformation comes back, and an open mesh is refused", "[cli][snap]") {
+  // Extrusion toward the edit's curvature (Le Folgoc et al. 2019): an edit that is itself a spin
+  // transformation of the rest mesh has a half-density the extrusion can reach.
+  TempDir tmp;
+  write_mesh(tmp.path / "rest.obj", icosphere(3));
+  REQUIRE(run_cli(tmp.path, "spin " + tmp.file("rest.obj") + " --rho-expr '0.1*sin(2*x)' --out " + tmp.file("spin.obj"))
+              .code == 0);
+  const Run r = run_cli(tmp.path, "snap " + tmp.file("rest.obj") + " " + tmp.file("spin.obj") + " --out " +
+                                      tmp.file("shape.obj") + " --mode shape --json");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  CHECK(j["mode"] == "shape");
+  CHECK(j["rms_edit_to_snap"].get<double>() < 5e-3);
+  CHECK(j["q_mean_after"].get<double>() < 1.02);
+  CHECK(fs::exists(tmp.path / "shape.obj"));
+  // an open mesh (a grid) has no closed curvature-space extrusion: exit 2, no output
+  write_mesh(tmp.path / "grid.obj", grid({1.0, 1.0}, {6, 6}));
+  const Run o = run_cli(tmp.path, "snap " + tmp.file("grid.obj") + " " + tmp.file("grid.obj") + " --out " +
+                                      tmp.file("open.obj") + " --mode shape");
+  CHECK(o.code == 2);
+  CHECK(!fs::exists(tmp.path / "open.obj"));
+}

@@ -102,7 +102,7 @@ TEST_CASE("Dirichlet: e^x cos y converges with order 2 (mass-weighted L2) on per
   CHECK(std::log2(err[1] / err[2]) > 1.75);
 }
 
-TEST_CASE("Dirichlet: several right-hand sides at once equal single solves; new values reuse the factor",
+TEST_CASE("Dirichlet: several right-hand sides at once equal single solves, new values reuse the factor",
           "[solvers]") {
   const Mesh g = perturbed_grid(15, 11, 0.25);
   const SpMat L = cotangent_laplacian(g.V, g.F);
@@ -194,7 +194,7 @@ TEST_CASE("CholeskySolver: agrees with Eigen's SimplicialLDLT for every ordering
   CHECK(amd.factor_nonzeros() < nat.factor_nonzeros());
 }
 
-TEST_CASE("CholeskySolver: factorize reuses the analysis; pattern changes are rejected", "[solvers]") {
+TEST_CASE("CholeskySolver: factorize reuses the analysis, pattern changes are rejected", "[solvers]") {
   const Mesh s = icosphere(2);
   CholeskySolver c;
   c.analyze(shifted_laplacian(s, 1.0));
@@ -244,7 +244,7 @@ TEST_CASE("CholeskySolver: indefinite and singular matrices raise numerical erro
   CHECK_THROWS_WITH(c2.compute(A2), Catch::Contains("connected component 1 (162 rows, e.g. row 162)"));
 }
 
-TEST_CASE("LUSolver: agrees with Eigen's SparseLU on the mean-value Laplacian; reports singular columns", "[solvers]") {
+TEST_CASE("LUSolver: agrees with Eigen's SparseLU on the mean-value Laplacian, reports singular columns", "[solvers]") {
   const Mesh g = perturbed_grid(13, 10, 0.3);
   const SpMat L = mean_value_laplacian(g.V, g.F);
   const SpMat A = SpMat(L + 0.5 * mass_matrix(g.V, g.F));
