@@ -1,6 +1,6 @@
 #pragma once
 // Internal to deform/src: the linear (DLB) blend of motors applied to a point without normalizing the
-// blended motor first (shared by ffd.cpp and skinning.cpp).
+// blended motor first (shared by motor_blend_field.cpp, ffd.cpp and skinning.cpp).
 #include <Eigen/Core>
 
 namespace spinmotor::detail {

@@ -5,6 +5,7 @@
 
 #include "spinmotor/deform/deformer.hpp"
 #include "spinmotor/error.hpp"
+#include "dlb_point.hpp"
 
 namespace spinmotor {
 
@@ -22,21 +23,6 @@ ga::Mot checked_unit_motor(const ga::Mot& m, const std::string& what) {
 }
 
 namespace {
-
-/// The linear (DLB) blend applied to a point without normalizing the motor first: the sum
-/// acc = r + ε d (rotor part r, dual part d, as quaternions) stands for the unit dual quaternion
-/// normalize(acc) (ga::normalize), which moves p to (r p r̄ + 2 vec(d r̄)) / |r|² — the component of d
-/// along r that normalization removes does not reach the vector part (Kavan et al. 2008, §4).
-[[gnu::always_inline]] inline Eigen::Vector3d dlb_point(const ga::Mot& acc, const Eigen::Vector3d& p) {
-  const ga::Quat r = ga::rotor_part(acc), d = ga::dual_part(acc);
-  const double w = r.w(), d0 = d.w();
-  const Eigen::Vector3d v = r.vec(), dv = d.vec();
-  const double n2 = w * w + v.squaredNorm();
-  if (!(n2 > 0.0)) return Eigen::Vector3d::Constant(std::nan(""));  // cancelled blend, reported after the loop
-  const Eigen::Vector3d vp = v.cross(p);
-  // r p r̄ = |r|² p + 2 w (v × p) + 2 v × (v × p);  vec(d r̄) = w dv − d0 v + v × dv.
-  return p + (2.0 / n2) * (w * vp + v.cross(vp) + w * dv - d0 * v + v.cross(dv));
-}
 
 /// Σ_j s_pj w_j R_j, the unnormalized linear blend.
 [[gnu::always_inline]] inline ga::Mot linear_sum(const double* w, Eigen::Index k, int pivot, const ga::Mot* motors,
@@ -117,8 +103,8 @@ void run_linear_pose(const MotorBlendField::Weights& W, const Eigen::MatrixXd& P
 #pragma omp parallel for schedule(static) if (n > kParallelBelow)
   for (Eigen::Index b = 0; b < blocks; ++b) dlb_block(w, k, pivot.data(), motors.data(), signs.data(), P, 4 * b, V_out);
   for (Eigen::Index i = 4 * blocks; i < n; ++i)
-    V_out.row(i) = dlb_point(linear_sum(w + i * k, k, pivot[i], motors.data(), signs.data()),
-                             Eigen::Vector3d(P(i, 0), P(i, 1), P(i, 2)))
+    V_out.row(i) = detail::dlb_point(linear_sum(w + i * k, k, pivot[i], motors.data(), signs.data()).data(),
+                                     Eigen::Vector3d(P(i, 0), P(i, 1), P(i, 2)))
                        .transpose();
 }
 
