@@ -14,44 +14,15 @@
 #include <sstream>
 #include <string>
 
+#include "cli_support.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
 
 using namespace spinmotor;
 namespace fs = std::filesystem;
-
-namespace {
-
-struct Run {
-  int code;
-  std::string out, err;
-};
-
-Run run_cli(const fs::path& dir, const std::string& args) {
-  const fs::path err_file = dir / "stderr.txt";
-  const std::string cmd = std::string("'") + SPINMOTOR_CLI + "' " + args + " 2> '" + err_file.string() + "'";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::string out;
-  char buf[4096];
-  for (size_t n; (n = fread(buf, 1, sizeof buf, pipe)) > 0;) out.append(buf, n);
-  const int status = pclose(pipe);
-  std::ifstream in(err_file);
-  std::stringstream err;
-  err << in.rdbuf();
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out, err.str()};
-}
-
-struct TempDir {
-  fs::path path;
-  TempDir() : path(fs::temp_directory_path() / ("spinmotor_cli_fair_" + std::to_string(getpid()))) {
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  std::string file(const std::string& name) const { return "'" + (path / name).string() + "'"; }
-};
-
-}  // namespace
+using spinmotor_test::Run;
+using spinmotor_test::run_cli;
+using spinmotor_test::TempDir;
 
 TEST_CASE("fair, extrude, willmore and the Ye spectra from the CLI", "[cli][lefolgoc]") {
   TempDir dir;
