@@ -141,6 +141,30 @@ PencilSolution solve_pencil(const Eigen::SparseMatrix<double>& K, const Eigen::S
   return out;
 }
 
+/// The tail both spectra share: without the constants (closed meshes) the last quaternion's 4
+/// unknowns are dropped, the count is checked against the remaining size, the pencil is solved and the
+/// eigenvalue fields of `out` are filled.
+PencilSolution solve_trimmed_pencil(Eigen::SparseMatrix<double> K, Eigen::SparseMatrix<double> G, bool constants,
+                                    const DiracSpectrumOptions& options, LLT::Ordering ordering, const char* who,
+                                    DiracSpectrum& out) {
+  const Eigen::Index Nr = constants ? K.rows() - 4 : K.rows();
+  if (constants) {
+    K = Eigen::SparseMatrix<double>(K.topLeftCorner(Nr, Nr));
+    G = Eigen::SparseMatrix<double>(G.topLeftCorner(Nr, Nr));
+  }
+  if (options.count < 1 || options.count >= Nr) {
+    std::ostringstream s;
+    s << who << ": count must be in [1, " << Nr - 1 << "], got " << options.count;
+    throw Error(s.str());
+  }
+  PencilSolution p = solve_pencil(K, G, options.count, options, ordering, who);
+  out.constant_kernel = constants ? 4 : 0;
+  out.iterations = p.iterations;
+  out.operations = p.operations;
+  out.eigenvalues = p.gamma;
+  return p;
+}
+
 }  // namespace
 
 DiracSpectrum dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
@@ -172,31 +196,18 @@ DiracSpectrum dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
   Eigen::SparseMatrix<double> K = as.pattern(), G = as.pattern();
   as.normal_matrix(rho, {}, K);
   as.mixed_matrix(rho, {}, G);
-  const Eigen::Index N = as.num_unknowns();
-  // Drop the last vertex (in the assembly's order) when the constants must be removed.
-  const Eigen::Index Nr = constants ? N - 4 : N;
-  if (constants) {
-    K = Eigen::SparseMatrix<double>(K.topLeftCorner(Nr, Nr));
-    G = Eigen::SparseMatrix<double>(G.topLeftCorner(Nr, Nr));
-  }
-  const int count = options.count;
-  if (count < 1 || count >= Nr) {
-    std::ostringstream s;
-    s << "dirac_spectrum: count must be in [1, " << Nr - 1 << "], got " << count;
-    throw Error(s.str());
-  }
-  const PencilSolution p = solve_pencil(K, G, count, options, LLT::Ordering::Natural, "dirac_spectrum");
+  // Without the constants, the last vertex in the assembly's order is dropped.
   DiracSpectrum out;
-  out.constant_kernel = constants ? 4 : 0;
-  out.iterations = p.iterations;
-  out.operations = p.operations;
-  out.eigenvalues = p.gamma;
+  const PencilSolution p =
+      solve_trimmed_pencil(std::move(K), std::move(G), constants, options, LLT::Ordering::Natural, "dirac_spectrum", out);
+  const int count = options.count;
+  const Eigen::Index N = as.num_unknowns();
   if (options.eigenvectors) {
     const Eigen::VectorXd& Mv = as.vertex_areas();
     out.eigenvectors.resize(4 * V.rows(), count);
     for (int t = 0; t < count; ++t) {
       Eigen::VectorXd x = Eigen::VectorXd::Zero(N);
-      x.head(Nr) = p.vectors.col(t);
+      x.head(p.vectors.rows()) = p.vectors.col(t);
       Eigen::MatrixXd lambda = as.expand(x, {});
       if (constants) {
         const Eigen::RowVector4d mean = (Mv.asDiagonal() * lambda).colwise().sum() / Mv.sum();
@@ -243,25 +254,12 @@ DiracSpectrum face_dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixX
   const Eigen::SparseMatrix<double> Av = face_vertex_averaging(F, n);
   const Eigen::SparseMatrix<double> DA = Dh * Av;
   const Eigen::SparseMatrix<double> Minv = quaternion_diagonal(net.area.cwiseInverse());
-  Eigen::SparseMatrix<double> K = Eigen::SparseMatrix<double>(DA.transpose() * Minv * DA);
-  Eigen::SparseMatrix<double> G = Eigen::SparseMatrix<double>(Av.transpose() * DA);
-  const Eigen::Index N = 4 * n, Nr = constants ? N - 4 : N;
-  if (constants) {
-    K = Eigen::SparseMatrix<double>(K.topLeftCorner(Nr, Nr));
-    G = Eigen::SparseMatrix<double>(G.topLeftCorner(Nr, Nr));
-  }
-  const int count = options.count;
-  if (count < 1 || count >= Nr) {
-    std::ostringstream s;
-    s << "face_dirac_spectrum: count must be in [1, " << Nr - 1 << "], got " << count;
-    throw Error(s.str());
-  }
-  const PencilSolution p = solve_pencil(K, G, count, options, LLT::Ordering::AMD, "face_dirac_spectrum");
   DiracSpectrum out;
-  out.constant_kernel = constants ? 4 : 0;
-  out.iterations = p.iterations;
-  out.operations = p.operations;
-  out.eigenvalues = p.gamma;
+  const PencilSolution p = solve_trimmed_pencil(Eigen::SparseMatrix<double>(DA.transpose() * Minv * DA),
+                                                Eigen::SparseMatrix<double>(Av.transpose() * DA), constants, options,
+                                                LLT::Ordering::AMD, "face_dirac_spectrum", out);
+  const int count = options.count;
+  const Eigen::Index N = 4 * n;
   if (options.eigenvectors) {
     Eigen::VectorXd w = Eigen::VectorXd::Zero(n);  // barycentric vertex areas
     for (Eigen::Index f = 0; f < m; ++f)
@@ -269,7 +267,7 @@ DiracSpectrum face_dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixX
     out.eigenvectors.resize(N, count);
     for (int t = 0; t < count; ++t) {
       Eigen::VectorXd x = Eigen::VectorXd::Zero(N);
-      x.head(Nr) = p.vectors.col(t);
+      x.head(p.vectors.rows()) = p.vectors.col(t);
       Eigen::MatrixXd phi = unflatten_quaternions(x);
       if (constants) phi.rowwise() -= (w.asDiagonal() * phi).colwise().sum() / w.sum();
       out.eigenvectors.col(t) = flatten_quaternions(phi);
