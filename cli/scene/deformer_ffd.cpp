@@ -26,6 +26,11 @@ public:
     motors_.assign(names_.size(), ga::Mot(1, 0, 0, 0, 0, 0, 0, 0));
   }
   std::vector<std::string> controls() const override { return names_; }
+  std::optional<Eigen::Vector3d> control_anchor(const std::string& name) const override {
+    const auto it = index_.find(name);  // names_ are in the library's control order (ffd.hpp)
+    if (it == index_.end()) return std::nullopt;
+    return d_.control_points().row(static_cast<Eigen::Index>(it->second)).transpose();
+  }
   void pose(const Pose& pose, Eigen::MatrixXd& V_out) override {
     std::fill(motors_.begin(), motors_.end(), ga::Mot(1, 0, 0, 0, 0, 0, 0, 0));
     for (const auto& [name, m] : pose.motors) motors_[index_.at(name)] = m;

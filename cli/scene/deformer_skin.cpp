@@ -28,6 +28,11 @@ public:
     for (const Bone& b : bones_) names.push_back(b.name);
     return names;
   }
+  std::optional<Eigen::Vector3d> control_anchor(const std::string& name) const override {
+    for (const Bone& b : bones_)
+      if (b.name == name) return b.head;  // a bone's motor turns it about its head (the joint)
+    return std::nullopt;
+  }
   void pose(const Pose& pose, Eigen::MatrixXd& V_out) override {
     std::vector<bool> has(bones_.size(), false);
     for (std::size_t j = 0; j < bones_.size(); ++j)

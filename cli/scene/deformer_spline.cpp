@@ -4,7 +4,12 @@
 //   {"type": "spline", "from": handle, "to": handle, "basis": "linear" | "quadratic" | "bezier" |
 //    "bspline", "degree": d, "keys": [names], "weights": "mean-value" | "cotan",
 //    "fit": {"controls": m, "chain": [[x,y,z]...], "posed": [[x,y,z]...]}}
+// With an `ik` block the one control is "ik.target": its motor moves the scene's target point (an
+// animation or an interactive drag moves the target; FABRIK and the fit run again in pose(), which
+// stays per-frame work: no harmonic field is recomputed).
+#include <algorithm>
 #include <chrono>
+#include <limits>
 
 #include "spinmotor/deform/chain_fit.hpp"
 #include "spinmotor/deform/fabrik.hpp"
@@ -44,10 +49,49 @@ public:
   Eigen::MatrixXd rest_chain;
   double ik_ms = 0, fit_ms = 0;
 
+  static constexpr const char* kIkTarget = "ik.target";
+
   const Eigen::VectorXd& parameter() const { return d_.parameter(); }
-  std::vector<std::string> controls() const override { return keys; }
+  std::vector<std::string> controls() const override {
+    return ik ? std::vector<std::string>{kIkTarget} : keys;
+  }
+
+  std::optional<Eigen::Vector3d> control_anchor(const std::string& name) const override {
+    if (ik) return name == kIkTarget ? std::optional<Eigen::Vector3d>(scene_.ik->target) : std::nullopt;
+    // Key j acts around parameter j/(k−1) of the harmonic field that runs from `from` to `to`.
+    const auto it = std::find(keys.begin(), keys.end(), name);
+    if (it == keys.end()) return std::nullopt;
+    const double t = keys.size() > 1 ? double(it - keys.begin()) / double(keys.size() - 1) : 0.0;
+    return (1 - t) * from_centroid_ + t * to_centroid_;
+  }
+
+  /// The target of this pose: the scene's target moved by the "ik.target" motor.
+  Eigen::Vector3d ik_target(const Pose& pose) const { return ga::to_isometry(pose.motor(kIkTarget)) * scene_.ik->target; }
+
+  /// FABRIK from the rest chain to `target`, then the B-spline fit of the joint motors (§III.C).
+  void solve_ik(const Eigen::Vector3d& target) {
+    using clock = std::chrono::steady_clock;
+    const auto t0 = clock::now();
+    ik = fabrik(rest_chain, target,
+                {.tolerance = scene_.ik->tolerance, .max_iterations = scene_.ik->iterations,
+                 .end_rotation = scene_.ik->orientation});
+    const auto t1 = clock::now();
+    chain = fit_chain(scene_.mesh.V, parameter(), rest_chain, ik->joints, {.controls = controls_, .degree = degree_},
+                      scene_.ik->orientation);
+    ik_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    fit_ms = std::chrono::duration<double, std::milli>(clock::now() - t1).count();
+    solved_target_ = target;
+  }
 
   void pose(const Pose& pose, Eigen::MatrixXd& V_out) override {
+    if (ik) {
+      const Eigen::Vector3d target = ik_target(pose);
+      if (target != solved_target_) try {
+          solve_ik(target);
+        } catch (const Error& e) {
+          throw scene_.error(pose.entry_path(kIkTarget), e.what());
+        }
+    }
     if (chain_mode) return d_.pose_generators(chain.fit.generators, V_out);
     motors_.resize(keys.size());
     for (std::size_t j = 0; j < keys.size(); ++j) motors_[j] = pose.motor(keys[j]);
@@ -66,7 +110,7 @@ public:
       Eigen::Vector3d tip = Eigen::Vector3d::Zero();
       for (Eigen::Index k = 0; k < to.vertices.size(); ++k) tip += V_out.row(to.vertices[k]).transpose();
       tip /= static_cast<double>(to.vertices.size());
-      const Eigen::Vector3d& t = scene_.ik->target;
+      const Eigen::Vector3d t = ik_target(pose);
       r["ik"] = {{"target", {t.x(), t.y(), t.z()}},
                  {"reachable", ik->reachable},
                  {"converged", ik->converged},
@@ -92,10 +136,21 @@ public:
     return r;
   }
 
+  int controls_ = 0, degree_ = 3;  ///< of the chain fit
+
 private:
+  static Eigen::Vector3d centroid(const Eigen::MatrixXd& V, const Handle& h) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (Eigen::Index k = 0; k < h.vertices.size(); ++k) c += V.row(h.vertices[k]).transpose();
+    return c / static_cast<double>(h.vertices.size());
+  }
+
   const Scene& scene_;
   SplineDeformer d_;
   int from_, to_;
+  Eigen::Vector3d from_centroid_ = centroid(scene_.mesh.V, scene_.handles[from_]);
+  Eigen::Vector3d to_centroid_ = centroid(scene_.mesh.V, scene_.handles[to_]);
+  Eigen::Vector3d solved_target_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   std::vector<ga::Mot> motors_;
 };
 
@@ -179,13 +234,12 @@ std::unique_ptr<SceneDeformer> bind_spline(const Scene& s) {
   auto d = std::make_unique<SplineScene>(s, bind(o), ifrom, ito);
   d->chain_mode = true;
   d->rest_chain = rest;
+  d->controls_ = o.keys;
+  d->degree_ = o.degree;
   try {
     if (s.ik) {
-      const auto t0 = clock::now();
-      d->ik = fabrik(rest, s.ik->target,
-                     {.tolerance = s.ik->tolerance, .max_iterations = s.ik->iterations, .end_rotation = end_rotation});
-      d->ik_ms = std::chrono::duration<double, std::milli>(clock::now() - t0).count();
-      posed = d->ik->joints;
+      d->solve_ik(s.ik->target);
+      return d;
     }
     const auto t1 = clock::now();
     d->chain = fit_chain(s.mesh.V, d->parameter(), rest, posed, {.controls = o.keys, .degree = o.degree},

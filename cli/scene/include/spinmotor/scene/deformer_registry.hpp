@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -34,6 +35,13 @@ public:
   virtual nlohmann::json report(const Pose& pose, const Eigen::MatrixXd& V_out) const = 0;
   /// Figures of bind() merged into the metrics JSON (e.g. the IK solve and fit). Default: none.
   virtual nlohmann::json bind_report() const { return nlohmann::json::object(); }
+  /// The rest point a control moves: the point its motor carries, where an interactive tool draws
+  /// its gizmo (a lattice point, a cage vertex, a bone head, a spline key's place between the end
+  /// handles, the IK target). Nothing when the control is a handle (its centroid is the natural
+  /// anchor and the caller has the vertices) or unknown. Default: nothing.
+  virtual std::optional<Eigen::Vector3d> control_anchor(const std::string& /*control*/) const {
+    return std::nullopt;
+  }
 };
 
 using BindFunction = std::unique_ptr<SceneDeformer> (*)(const Scene& scene);
