@@ -53,7 +53,8 @@ void main() {
 const char* kFragment = R"(#version 330 core
 in vec3 f_pos; in vec3 f_nrm; in vec2 f_uv; in vec3 f_rest;
 flat in vec3 f_flat; noperspective in vec3 f_edge;
-uniform int u_mode;          // 0 normals, 1 checker, 2 Q, 3 plain
+uniform int u_mode;          // 0 normals, 1 checker, 2 Q, 3 plain, 4 signed
+uniform float u_signed;      // |value| shown at full colour in mode 4
 uniform int u_smooth, u_wire, u_has_uv;
 uniform vec3 u_eye;
 uniform vec2 u_qrange;       // log(q_min), log(q_max / q_min)
@@ -77,6 +78,11 @@ void main() {
     float q = texelFetch(u_face, gl_PrimitiveID).r;
     float t = (isinf(q) || isnan(q)) ? 1.0 : clamp((log(max(q, 1.0)) - u_qrange.x) / u_qrange.y, 0.0, 1.0);
     c = light * texture(u_colormap, vec2((t * 255.0 + 0.5) / 256.0, 0.5)).rgb;
+  } else if (u_mode == 4) {
+    float v = texelFetch(u_face, gl_PrimitiveID).r;
+    float t = clamp(v / u_signed, -1.0, 1.0);
+    vec3 base = vec3(0.93, 0.93, 0.93);
+    c = light * (t >= 0.0 ? mix(base, vec3(0.80, 0.10, 0.10), t) : mix(base, vec3(0.12, 0.25, 0.80), -t));
   } else {
     c = light * vec3(0.78, 0.78, 0.80);
   }
@@ -286,6 +292,7 @@ void MeshRenderer::draw(const OrbitCamera& camera, int width, int height, const 
   const int mode = style.color == ColorMode::Normals   ? 0
                    : style.color == ColorMode::Checker ? 1
                    : style.color == ColorMode::Q       ? 2
+                   : style.color == ColorMode::Signed  ? 4
                                                        : 3;
   gl.Uniform1i(uniform(program_, "u_mode"), mode);
   gl.Uniform1i(uniform(program_, "u_smooth"), style.smooth ? 1 : 0);
@@ -294,6 +301,7 @@ void MeshRenderer::draw(const OrbitCamera& camera, int width, int height, const 
   const double q_min = std::max(style.q_min, 1.0), q_max = std::max(style.q_max, q_min * (1 + 1e-6));
   gl.Uniform2f(uniform(program_, "u_qrange"), float(std::log(q_min)), float(std::log(q_max / q_min)));
   gl.Uniform1f(uniform(program_, "u_cells"), float(style.checker_cells));
+  gl.Uniform1f(uniform(program_, "u_signed"), float(style.signed_range > 0 ? style.signed_range : 1.0));
   gl.ActiveTexture(GL_TEXTURE0);
   gl.BindTexture(GL_TEXTURE_BUFFER, face_texture_);
   gl.Uniform1i(uniform(program_, "u_face"), 0);

@@ -23,6 +23,7 @@ enum class ColorMode {
   Checker,  ///< checkerboard through the texture coordinates (rest-position 3D checker if the mesh has none)
   Q,        ///< per-face value (quasi-conformal error) through q_colormap on a log range
   Plain,    ///< one light grey, lit
+  Signed,   ///< per-face signed value (a painted ρ): blue < 0 < red, full colour at ±signed_range
 };
 
 struct RenderStyle {
@@ -30,6 +31,7 @@ struct RenderStyle {
   bool smooth = true;               ///< interpolated vertex normals (else per-face normals)
   bool wireframe = false;           ///< dark edges over the surface
   double q_min = 1.0, q_max = 2.0;  ///< Q range of the colour map (log scale)
+  double signed_range = 1.0;        ///< |value| shown at full colour in ColorMode::Signed
   double checker_cells = 16;  ///< checker cells per unit of UV (or per bounding-box diagonal without UV)
   Eigen::Vector3f background{1.0f, 1.0f, 1.0f};
 };
@@ -46,7 +48,7 @@ class MeshRenderer {
   void set_mesh(const Mesh& mesh);
   /// Per frame: new positions (n×3, same vertex order). Error on a wrong size.
   void set_positions(const Eigen::MatrixXd& V);
-  /// Per-face values for ColorMode::Q (m; +inf allowed). Error on a wrong size.
+  /// Per-face values for ColorMode::Q and ColorMode::Signed (m; +inf allowed). Error on a wrong size.
   void set_face_values(const Eigen::VectorXd& values);
   bool has_uv() const { return has_uv_; }
   Eigen::Index vertex_count() const { return n_; }
