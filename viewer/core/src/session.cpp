@@ -94,6 +94,39 @@ void Session::remove_handle(const std::string& name) {
   rebind(std::move(doc));
 }
 
+std::optional<Eigen::Vector3d> Session::control_anchor(const std::string& name) const {
+  if (deformer_)
+    if (auto a = deformer_->control_anchor(name)) return a;
+  const int h = scene_->handle_index(name);
+  if (h < 0) return std::nullopt;
+  const Eigen::VectorXi& v = scene_->handles[h].vertices;
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (Eigen::Index k = 0; k < v.size(); ++k) c += scene_->mesh.V.row(v[k]).transpose();
+  return c / double(v.size());
+}
+
+std::optional<Eigen::Vector3d> Session::posed_anchor(const std::string& name) const {
+  const auto a = control_anchor(name);
+  if (!a) return std::nullopt;
+  return ga::to_isometry(pose_.motor(name)) * *a;
+}
+
+nlohmann::json Session::deformer_block() const { return deformer_ ? scene_->deformer : nlohmann::json(); }
+
+nlohmann::json Session::ik_block() const {
+  return scene_->doc.contains("ik") ? scene_->doc["ik"] : nlohmann::json();
+}
+
+void Session::set_deformer(const nlohmann::json& deformer, const nlohmann::json& ik) {
+  nlohmann::json doc = scene_document();
+  doc["deformer"] = deformer;
+  if (ik.is_null())
+    doc.erase("ik");
+  else
+    doc["ik"] = ik;
+  rebind(std::move(doc));
+}
+
 std::vector<int> Session::handle_vertices(const std::string& name) const {
   const int h = scene_->handle_index(name);
   if (h < 0) return {};

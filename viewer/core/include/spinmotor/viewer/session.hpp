@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -40,6 +41,21 @@ class Session {
   const std::vector<std::string>& controls() const { return controls_; }
   /// Rest vertices of the handle called `name` (empty if it is not a handle, e.g. an FFD control).
   std::vector<int> handle_vertices(const std::string& name) const;
+  /// The rest point control `name` moves, where its gizmo sits: the deformer's anchor (lattice point,
+  /// cage vertex, bone head, spline key, IK target; SceneDeformer::control_anchor) or else the
+  /// centroid of the handle's rest vertices. Nothing for a name that is neither.
+  std::optional<Eigen::Vector3d> control_anchor(const std::string& name) const;
+  /// control_anchor moved by the control's motor in the working pose.
+  std::optional<Eigen::Vector3d> posed_anchor(const std::string& name) const;
+
+  /// The scene's `deformer` block (null without deformer) and `ik` block (null when there is none).
+  nlohmann::json deformer_block() const;
+  nlohmann::json ik_block() const;
+  /// Replaces the deformer block, and the `ik` block (null removes it), validates the document and
+  /// rebinds: the viewer's deformer panel. Pose entries of controls the new deformer does not have
+  /// are dropped; the undo history restarts. Throws Error (naming the JSON path) for a bad block; the
+  /// session is then unchanged.
+  void set_deformer(const nlohmann::json& deformer, const nlohmann::json& ik = nullptr);
 
   /// Adds a handle {"name", "select": {"vertices": [...]}} to the scene document, re-validates it and
   /// rebinds the deformer (a bare mesh gets a surface-harmonic deformer). The pose is kept; the undo

@@ -1,19 +1,15 @@
 #pragma once
-// "Snap to spin" off the UI thread. The viewer requests a snap of the current edit when a drag ends;
-// the worker thread binds the ConformalSnap once (first request) and snaps. Every request gets a new
-// generation; starting a new drag calls cancel(). A result whose generation is no longer the latest
-// (the user moved on while it ran, or a newer request replaced a queued one) is discarded, so the UI
-// never shows a snap of an edit that is not on screen.
+// "Snap to spin" off the UI thread (latest_job_worker.hpp). The viewer requests a snap of the current
+// edit when a drag ends; the worker binds the ConformalSnap on the rest mesh once (first request, in
+// its own thread) and snaps. Starting a new drag calls cancel(); a result of a request that is no
+// longer the latest is discarded, so the UI never shows a snap of an edit that is not on screen.
 #include <Eigen/Core>
-#include <condition_variable>
 #include <cstdint>
-#include <memory>
-#include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 
 #include "spinmotor/mesh/mesh.hpp"
+#include "spinmotor/viewer/latest_job_worker.hpp"
 
 namespace spinmotor::viewer {
 
@@ -27,39 +23,17 @@ struct SnapOutcome {
   std::string error;  ///< what went wrong (spinmotor::Error message), else empty
 };
 
-class SnapWorker {
+struct SnapJob {
+  Eigen::MatrixXd V_edit;  ///< n×3
+  double tradeoff = 1.0;   ///< ∈ [0, 1]
+};
+
+class SnapWorker : public LatestJobWorker<SnapJob, SnapOutcome> {
  public:
   explicit SnapWorker(Mesh rest);
-  ~SnapWorker();  ///< waits for the snap in progress, if any, then stops
-  SnapWorker(const SnapWorker&) = delete;
-  SnapWorker& operator=(const SnapWorker&) = delete;
-
+  using LatestJobWorker::request;
   /// Queues a snap of V_edit (n×3) with `tradeoff` ∈ [0, 1]; replaces a queued one. Returns its generation.
-  std::uint64_t request(Eigen::MatrixXd V_edit, double tradeoff);
-  /// Makes every queued or running request stale.
-  void cancel();
-  /// The result of the latest request, once (nothing while it runs or when it was cancelled).
-  std::optional<SnapOutcome> take();
-  bool busy() const;
-  /// Blocks until no request is queued or running (tests, headless mode). False on timeout.
-  bool wait_idle(double timeout_s);
-  std::uint64_t discarded() const;  ///< results dropped as stale so far
-
- private:
-  void loop();
-  struct Job {
-    std::uint64_t generation;
-    Eigen::MatrixXd V;
-    double tradeoff;
-  };
-  Mesh rest_;
-  mutable std::mutex mutex_;
-  std::condition_variable cv_, idle_cv_;
-  std::optional<Job> queued_;
-  std::optional<SnapOutcome> result_;
-  std::uint64_t latest_ = 0, discarded_ = 0;
-  bool running_ = false, stop_ = false;
-  std::thread thread_;
+  std::uint64_t request(Eigen::MatrixXd V_edit, double tradeoff) { return request(SnapJob{std::move(V_edit), tradeoff}); }
 };
 
 }  // namespace spinmotor::viewer
