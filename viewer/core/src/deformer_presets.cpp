@@ -1,5 +1,7 @@
 #include "spinmotor/viewer/deformer_presets.hpp"
 
+#include <algorithm>
+
 #include "spinmotor/error.hpp"
 
 namespace spinmotor::viewer {
@@ -68,6 +70,49 @@ DeformerPreset deformer_preset(const std::string& choice, const scene::Scene& s)
     return {same ? s.deformer : json{{"type", "skin"}, {"weights", "harmonic"}, {"blend", "dlb"}}, nullptr};
   }
   throw Error("viewer: no deformer choice '" + choice + "'");
+}
+
+std::vector<DeformerOption> deformer_options(const std::string& type, const std::vector<std::string>& handle_names) {
+  const json& defs = scene::scene_schema()["definitions"];
+  std::string def = "deformer_" + type;
+  std::replace(def.begin(), def.end(), '-', '_');
+  if (!defs.contains(def)) throw Error("viewer: no deformer type '" + type + "' in the scene schema");
+  auto resolve = [&](const json& p) -> const json& {
+    if (p.contains("$ref")) {
+      const std::string ref = p["$ref"].get<std::string>();  // "#/definitions/<name>"
+      return defs[ref.substr(ref.rfind('/') + 1)];
+    }
+    return p;
+  };
+  std::vector<DeformerOption> out;
+  for (const auto& [key, raw] : defs[def]["properties"].items()) {
+    if (key == "type") continue;
+    const json& p = resolve(raw);
+    DeformerOption o;
+    o.key = key;
+    if (key == "from" || key == "to") {
+      o.kind = DeformerOption::Kind::Handle;
+      o.choices = handle_names;
+    } else if (p.contains("enum")) {
+      o.kind = DeformerOption::Kind::Choice;
+      o.choices = p["enum"].get<std::vector<std::string>>();
+    } else if (p.value("type", "") == "integer" || p.value("type", "") == "number") {
+      o.kind = p["type"] == "integer" ? DeformerOption::Kind::Integer : DeformerOption::Kind::Number;
+      o.minimum = p.value("minimum", o.minimum);
+      o.maximum = p.value("maximum", o.maximum);
+    } else if (p.value("type", "") == "boolean") {
+      o.kind = DeformerOption::Kind::Boolean;
+    } else if (p.value("type", "") == "array" && p.value("minItems", 0) == 3 && p.value("maxItems", 0) == 3 &&
+               p.contains("items") && p["items"].value("type", "") == "integer") {
+      o.kind = DeformerOption::Kind::Integers3;
+      o.minimum = p["items"].value("minimum", o.minimum);
+      o.maximum = p["items"].value("maximum", o.maximum);
+    } else {
+      continue;
+    }
+    out.push_back(std::move(o));
+  }
+  return out;
 }
 
 }  // namespace spinmotor::viewer

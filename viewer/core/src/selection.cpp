@@ -86,13 +86,15 @@ double DepthMap::depth(int x, int y) const {
 }
 
 bool DepthMap::visible(double px, double py, double d, double tolerance) const {
+  // The farthest depth in the 3×3 pixels around the point: a vertex lies on its own triangles, whose
+  // depth at the neighbouring pixel centres varies by the surface slope, and a silhouette vertex may
+  // have background next to it. A vertex behind the surface has only nearer depths around it.
   const int cx = int(std::floor(px)), cy = int(std::floor(py));
-  double nearest = std::numeric_limits<double>::infinity();
+  double farthest = -std::numeric_limits<double>::infinity();
   for (int y = cy - 1; y <= cy + 1; ++y)
     for (int x = cx - 1; x <= cx + 1; ++x)
-      if (x >= 0 && y >= 0 && x < width_ && y < height_) nearest = std::min(nearest, depth(x, y));
-  // A vertex on a silhouette may cover no pixel centre itself: nothing in front of it is visible too.
-  return !(d > nearest + tolerance);
+      if (x >= 0 && y >= 0 && x < width_ && y < height_) farthest = std::max(farthest, depth(x, y));
+  return !(d > farthest + tolerance);
 }
 
 bool point_in_polygon(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& poly) {

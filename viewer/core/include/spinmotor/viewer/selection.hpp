@@ -27,7 +27,8 @@ class DepthMap {
   /// Depth of the nearest surface at pixel (x, y) (clamped to the image), +inf for background.
   double depth(int x, int y) const;
   /// True if a point at pixel (px, py) with eye depth d is not behind the surface: d is at most the
-  /// nearest depth in the 3×3 pixels around it plus `tolerance` (scene units).
+  /// farthest depth in the 3×3 pixels around it plus `tolerance` (scene units). A point hidden just
+  /// behind a silhouette (within a pixel of background) counts as visible.
   bool visible(double px, double py, double d, double tolerance) const;
 
  private:
