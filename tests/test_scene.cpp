@@ -267,6 +267,40 @@ TEST_CASE("animations number their outputs, snap metrics per frame", "[scene][ru
     CHECK(fs::exists(tmp.path / f));
 }
 
+TEST_CASE("scene snap modes: spin with rho smoothing, shape (extrusion), keys of the other mode rejected",
+          "[scene][run][snap]") {
+  json doc = json::parse(std::ifstream(kScenes / "sh_tube.json"));
+  doc.erase("output");
+  doc["snap"] = {{"smooth_rho", 10}};
+  const Scene spin = parse_scene(doc, kScenes, "spin.json");
+  CHECK(spin.snap.smooth_rho == 10);
+  const RunResult rs = run_scene(spin);
+  const json& ss = rs.frames[0].metrics["snap"];
+  CHECK(ss["mode"] == "spin");
+  CHECK(ss["smooth_rho"] == 10);
+  const double q_edit = rs.frames[0].metrics["q_mean"].get<double>();
+  CHECK(ss["q_mean"].get<double>() < q_edit);
+
+  doc["snap"] = {{"mode", "shape"}, {"steps", 2}};
+  const Scene shape = parse_scene(doc, kScenes, "shape.json");
+  CHECK(shape.snap.shape);
+  const RunResult rh = run_scene(shape);
+  const json& sh = rh.frames[0].metrics["snap"];
+  CHECK(sh["mode"] == "shape");
+  CHECK(sh["closure"].size() == 2);
+  INFO("edit Q_mean " << q_edit << ", shape snap " << sh["q_mean"] << ", rms " << sh["rms_edit_to_snap"]);
+  CHECK(sh["q_mean"].get<double>() < q_edit);  // more conformal than the edit
+  CHECK(sh["rms_edit_to_snap"].get<double>() < 0.15);  // and near it (relative to the diagonal)
+  CHECK((rh.frames[0].V_unsnapped - rs.frames[0].V_unsnapped).cwiseAbs().maxCoeff() == 0);  // same edit
+
+  for (const char* bad : {R"({"mode": "shape", "tradeoff": 0.5})", R"({"smooth_rho": 3, "steps": 2})",
+                          R"({"mode": "sphere"})", R"({"steps": 0, "mode": "shape"})"}) {
+    INFO(bad);
+    doc["snap"] = json::parse(bad);
+    CHECK_THROWS_WITH(parse_scene(doc, kScenes, "bad.json"), Catch::Contains("/snap"));
+  }
+}
+
 TEST_CASE("spline scene with named keys in matrix, quaternion and rotate forms", "[scene][run][spline]") {
   const Scene s = load_scene(kScenes / "spline_keys_tube.json");
   const RunResult r = run_scene(s);

@@ -164,6 +164,30 @@ TEST_CASE("cage scene: good cage runs, open or inconsistently oriented cages exi
   CHECK(!fs::exists(t.path / "out"));
 }
 
+TEST_CASE("cage scene: a bounding-box cage needs no file and moves the mesh with its corners", "[scene][cage]") {
+  TempDir t;
+  json doc = cage_scene();
+  doc["deformer"]["cage"] = {{"box", {{"margin", 0.1}}}};
+  doc["deformer"]["coordinates"] = "mean-value";
+  doc["pose"] = json::object();
+  for (int j = 0; j < 8; ++j) doc["pose"]["cage[" + std::to_string(j) + "]"] = {{"translate", {0.25, 0, -0.5}}};
+  const CliResult r = deform(t.path, doc);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const json m = read_json(t.path / "out/cage.json");
+  CHECK(m["cage"]["vertices"] == 8);
+  // Mean-value coordinates reproduce affine maps: all corners translated = the mesh translated.
+  const Mesh rest = torus(1, 0.4, 32, 16), out = read_mesh(t.path / "out/cage.obj");
+  REQUIRE(out.V.rows() == rest.V.rows());
+  CHECK(((out.V - rest.V).rowwise() - Eigen::RowVector3d(0.25, 0, -0.5)).cwiseAbs().maxCoeff() < 1e-5);  // OBJ digits
+  fs::remove_all(t.path / "out");
+  doc["deformer"]["cage"] = {{"box", {{"margin", -1}}}};
+  const CliResult bad = deform(t.path, doc);
+  CHECK(bad.code == 2);
+  CHECK(bad.err.find("/deformer/cage") != std::string::npos);
+  CHECK(!fs::exists(t.path / "out"));
+}
+
 TEST_CASE("skin scene: harmonic weights run, bad weight files exit 2 naming file and line", "[scene][skin]") {
   TempDir t;
   {

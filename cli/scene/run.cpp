@@ -15,6 +15,7 @@
 #include "spinmotor/mesh/metrics/json.hpp"
 #include "spinmotor/scene/deformer_registry.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
+#include "spinmotor/spin/curvature_spin_flow.hpp"
 
 namespace spinmotor::scene {
 
@@ -48,10 +49,13 @@ RunResult run_scene(const Scene& scene, const RunProgress& progress) {
   const json bind_extra = d->bind_report();
   // Conformal snap (Crane et al. 2011 §7.2): bound once on the rest mesh (Laplacian factor, symbolic
   // analysis), then one snap per frame.
+  // Shape mode (Le Folgoc 2019 extrusion toward the edit's curvature) binds nothing: each frame runs
+  // its own extrusion from the rest mesh.
   std::optional<ConformalSnap> snapper;
-  if (scene.snap.enabled) {
+  if (scene.snap.enabled && !scene.snap.shape) {
     try {
-      snapper.emplace(scene.mesh, ConformalSnapOptions{.tradeoff = scene.snap.tradeoff});
+      snapper.emplace(scene.mesh, ConformalSnapOptions{.tradeoff = scene.snap.tradeoff,
+                                                       .rho_smoothing = scene.snap.smooth_rho});
     } catch (const Error& e) {
       throw Error(scene.name() + ": /snap: " + e.what(), e.kind());
     }
@@ -83,6 +87,36 @@ RunResult run_scene(const Scene& scene, const RunProgress& progress) {
     for (const auto& [k, v] : extra.items()) j[k] = v;
     for (const auto& [k, v] : bind_extra.items()) j[k] = v;
     j["metrics"] = to_json(m);
+    if (scene.snap.enabled && scene.snap.shape) {
+      const auto t2 = clock::now();
+      CurvatureFlow flow;
+      DeformationMetrics ms;
+      Eigen::MatrixXd V_snap;
+      try {
+        CurvatureSpinOptions co;
+        co.alpha = 0.05;  // the extrusion default (curvature_spin_flow.hpp)
+        co.area_epsilon = scene.snap.area_constraint;
+        flow = curvature_extrusion(scene.mesh.V, scene.mesh.F, fr.V, scene.snap.steps, co);
+        V_snap = umeyama_fit(flow.V, fr.V).apply(flow.V);
+        ms = compute_metrics(scene.mesh, V_snap);
+      } catch (const Error& e) {
+        throw Error(scene.name() + ": snap (shape mode): " + e.what(), e.kind());
+      }
+      const VertexDistances dist = vertex_distances(fr.V, V_snap, Alignment::None);
+      j["snap"] = {{"mode", "shape"},
+                   {"steps", scene.snap.steps},
+                   {"area_constraint", scene.snap.area_constraint},
+                   {"q_mean", detail::finite_or_null(ms.q_mean)},
+                   {"q_max", detail::finite_or_null(ms.q_max)},
+                   {"area_distortion", detail::finite_or_null(ms.area_distortion)},
+                   {"rms_edit_to_snap", dist.rms},
+                   {"max_edit_to_snap", dist.max},
+                   {"closure", flow.closure},
+                   {"total_ms", std::chrono::duration<double, std::milli>(clock::now() - t2).count()},
+                   {"metrics", to_json(ms)}};
+      fr.V_unsnapped = std::move(fr.V);
+      fr.V = std::move(V_snap);
+    }
     if (snapper) {
       ConformalSnapResult sr;
       DeformationMetrics ms;
@@ -94,7 +128,9 @@ RunResult run_scene(const Scene& scene, const RunProgress& progress) {
       }
       const VertexDistances dist = vertex_distances(fr.V, sr.V, Alignment::None);
       const bool first = f == 0;  // the bind is paid by the first frame
-      j["snap"] = {{"tradeoff", scene.snap.tradeoff},
+      j["snap"] = {{"mode", "spin"},
+                   {"tradeoff", scene.snap.tradeoff},
+                   {"smooth_rho", scene.snap.smooth_rho},
                    {"q_mean", detail::finite_or_null(ms.q_mean)},
                    {"q_max", detail::finite_or_null(ms.q_max)},
                    {"area_distortion", detail::finite_or_null(ms.area_distortion)},

@@ -307,6 +307,15 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
   if (auto it = doc.find("snap"); it != doc.end()) {
     s.snap.enabled = value_or(*it, "enabled", true);
     s.snap.tradeoff = value_or(*it, "tradeoff", 1.0);
+    s.snap.shape = value_or(*it, "mode", std::string("spin")) == "shape";
+    s.snap.smooth_rho = value_or(*it, "smooth_rho", 0);
+    s.snap.steps = value_or(*it, "steps", 4);
+    s.snap.area_constraint = value_or(*it, "area_constraint", 0.0);
+    if (s.snap.shape && (it->contains("tradeoff") || it->contains("smooth_rho")))
+      throw s.error("/snap", "`tradeoff` and `smooth_rho` belong to mode \"spin\"; mode \"shape\" takes `steps` and "
+                             "`area_constraint`");
+    if (!s.snap.shape && (it->contains("steps") || it->contains("area_constraint")))
+      throw s.error("/snap", "`steps` and `area_constraint` belong to mode \"shape\"");
   }
 
   // Outputs.

@@ -54,7 +54,11 @@ struct IkSpec {
 
 struct SnapSpec {
   bool enabled = false;
-  double tradeoff = 1.0;
+  bool shape = false;          ///< "mode": "shape": extrusion toward the edit's curvature (Le Folgoc 2019)
+  double tradeoff = 1.0;       ///< spin mode: similarities (0) … integrable spin transformation (1)
+  int smooth_rho = 0;          ///< spin mode: Laplacian smoothing passes of the fitted ρ
+  int steps = 4;               ///< shape mode: extrusion steps
+  double area_constraint = 0;  ///< shape mode: area soft-constraint ε (0 = off)
 };
 
 struct OutputSpec {
