@@ -83,7 +83,7 @@ struct Viewer {
   nlohmann::json edit_block;
   char block_text[8192] = "";
 
-  char save_path[512] = "", export_path[512] = "", shot_path[512] = "screenshot.png";
+  char open_path[512] = "", save_path[512] = "", export_path[512] = "", shot_path[512] = "screenshot.png";
 
   explicit Viewer(Session s) : session(std::move(s)) {}
 
@@ -539,8 +539,38 @@ void snap_panel(Viewer& v) {
     ImGui::TextWrapped("snap failed: %s", v.snapped->error.c_str());
 }
 
+/// Replaces the document: a new session, its mesh uploaded, workers bound to it, the camera reframed.
+void open_document(Viewer& v, const std::string& path, int w, int h) {
+  Session s = Session::open(path);  // throws before anything changes
+  v.drag.reset();
+  v.gesture = false;
+  v.snapper = std::make_unique<SnapWorker>(s.rest());  // the old workers finish and stop
+  v.painter.reset();
+  v.snapped.reset();
+  v.painted.reset();
+  v.selection.clear();
+  v.rho.resize(0);
+  v.shown = Shown::Edit;
+  v.session = std::move(s);
+  v.renderer->set_mesh(v.session.rest());
+  render::RenderOptions o;
+  o.width = w, o.height = h, o.up = v.cam.up;
+  o.azimuth_deg = v.cam.azimuth_deg, o.elevation_deg = v.cam.elevation_deg;
+  v.cam = render::render_camera(v.session.posed(), o);
+  v.control = 0;
+  v.on_rebind();
+  v.status = "opened " + path;
+}
+
 void files_panel(Viewer& v, int w, int h) {
   if (!ImGui::CollapsingHeader("Files")) return;
+  ImGui::InputText("open", v.open_path, sizeof v.open_path);
+  ImGui::SameLine();
+  if (ImGui::Button("load")) try {
+      open_document(v, v.open_path, w, h);
+    } catch (const std::exception& e) {
+      v.status = e.what();
+    }
   ImGui::InputText("scene", v.save_path, sizeof v.save_path);
   ImGui::SameLine();
   if (ImGui::Button("save")) try {
@@ -644,6 +674,7 @@ int run_window(const Args& a) {
     v.on_rebind();
     const std::string stem = v.session.scene().file.stem().string();
     std::snprintf(v.save_path, sizeof v.save_path, "%s", (v.session.scene().dir / (stem + "-edited.json")).c_str());
+    std::snprintf(v.open_path, sizeof v.open_path, "%s", v.save_path);
     std::snprintf(v.export_path, sizeof v.export_path, "%s", (stem + "-posed.obj").c_str());
     for (int frame = 1; !glfwWindowShouldClose(window); ++frame) {
       const auto t0 = Clock::now();
