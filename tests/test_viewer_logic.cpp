@@ -220,7 +220,7 @@ TEST_CASE("session: pose a handle, undo/redo, save the scene with the pose", "[v
   CHECK((moved.posed() - V1).norm() < 1e-12);
   s = std::move(moved);
   // Handles made in the viewer (brush selection): a new handle is posed by its own motor.
-  const Eigen::MatrixXd& R = s.rest().V;
+  const Eigen::MatrixXd R = s.rest().V;  // a copy: add_handle rebinds, which replaces the scene
   std::vector<int> mid;
   for (Eigen::Index i = 0; i < R.rows(); ++i)
     if (std::abs(R(i, 2) - 2.0) < 0.06) mid.push_back(int(i));

@@ -24,6 +24,8 @@ namespace spinmotor::viewer {
 /// origin, then translation; SCENE.md `pose`).
 nlohmann::json motor_to_json(const ga::Mot& m);
 
+/// References returned by scene(), rest(), controls() and posed() stay valid until the next call of
+/// add_handle, remove_handle or set_deformer, which rebuild the scene (ASan caught a test holding one).
 class Session {
  public:
   /// A ".json" path is a scene (validated, deformer bound); anything else a mesh shown without deformer.
