@@ -31,15 +31,23 @@ double median(std::vector<double> v) {
 /// --select-box / --select-lasso: the visible vertices in a pixel region of `cam`.
 std::vector<int> select_region(const Args& a, Session& s, const render::OrbitCamera& cam, int w, int h) {
   const Eigen::MatrixXd& V = s.posed();
+  const auto t0 = Clock::now();
   const DepthMap depth = DepthMap::render(V, s.rest().F, cam, w, h);
+  const double depth_ms = ms_since(t0);
+  const auto t1 = Clock::now();
+  std::vector<int> sel;
   if (!a.select_box.empty()) {
     const auto b = parse_numbers(a.select_box, "--select-box", 4);
-    return vertices_in_box(V, cam, w, h, {b[0], b[1]}, {b[2], b[3]}, &depth);
+    sel = vertices_in_box(V, cam, w, h, {b[0], b[1]}, {b[2], b[3]}, &depth);
+  } else {
+    const auto p = parse_numbers(a.select_lasso, "--select-lasso", 6, true);
+    std::vector<Eigen::Vector2d> lasso;
+    for (std::size_t i = 0; i + 1 < p.size(); i += 2) lasso.emplace_back(p[i], p[i + 1]);
+    sel = vertices_in_lasso(V, cam, w, h, lasso, &depth);
   }
-  const auto p = parse_numbers(a.select_lasso, "--select-lasso", 6, true);
-  std::vector<Eigen::Vector2d> lasso;
-  for (std::size_t i = 0; i + 1 < p.size(); i += 2) lasso.emplace_back(p[i], p[i + 1]);
-  return vertices_in_lasso(V, cam, w, h, lasso, &depth);
+  std::printf("selected %zu visible vertices (depth map %.1f ms, selection %.1f ms)\n", sel.size(), depth_ms,
+              ms_since(t1));
+  return sel;
 }
 
 /// --paint X,Y,RADIUS,AMOUNT...: brush dabs at pixels of `cam` (radius a fraction of the scene
@@ -90,7 +98,6 @@ int run_headless(const Args& a) {
   const render::OrbitCamera cam = render::render_camera(s.rest().V, o);
   if (!a.select_box.empty() || !a.select_lasso.empty()) {
     const std::vector<int> sel = select_region(a, s, cam, o.width, o.height);
-    std::printf("selected %zu visible vertices\n", sel.size());
     if (!a.add_handle.empty()) {
       s.add_handle(a.add_handle, sel);
       std::printf("handle %s: %zu vertices, bind %.1f ms\n", a.add_handle.c_str(), sel.size(), s.bind_ms());

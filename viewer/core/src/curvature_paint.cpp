@@ -7,6 +7,8 @@
 
 #include "spinmotor/error.hpp"
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
+#include "spinmotor/mesh/topology.hpp"
+#include "spinmotor/spin/boundary_prescription.hpp"
 #include "spinmotor/spin/spin_transform.hpp"
 
 namespace spinmotor::viewer {
@@ -37,7 +39,13 @@ SpinPaintWorker::SpinPaintWorker(Mesh rest)
         try {
           auto t0 = std::chrono::steady_clock::now();
           if (!spin) {
-            spin = std::make_shared<SpinTransform>(*rest);
+            // On a surface with boundary the kernel of D is large (any conformal map of a disk is a spin
+            // transformation with ρ = 0), so the smallest eigenvector of D − ρ is arbitrary: an open
+            // 100k-vertex tube gave Q_mean 2.7 for any bump. The boundary keeps its rest tangent
+            // directions (§5.7, as in the §7.4 boundary prescription with unchanged targets).
+            SpinTransformOptions o;
+            if (!boundary_loops(rest->F).empty()) o.boundary = boundary_tangents(rest->V, rest->F);
+            spin = std::make_shared<SpinTransform>(*rest, o);
             out.bind_ms = spin->bind_ms();
             t0 = std::chrono::steady_clock::now();
           }

@@ -33,7 +33,9 @@ struct PaintOutcome {
 };
 
 /// Applies painted ρ (one value per face of `rest`) as a spin transformation of `rest`; the
-/// SpinTransform is bound once, on the first request, in the worker thread.
+/// SpinTransform is bound once, on the first request, in the worker thread. A mesh with boundary
+/// keeps its boundary tangent directions (§5.7): without a boundary condition the problem has no
+/// unique answer there.
 class SpinPaintWorker : public LatestJobWorker<Eigen::VectorXd, PaintOutcome> {
  public:
   explicit SpinPaintWorker(Mesh rest);
