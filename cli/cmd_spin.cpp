@@ -11,6 +11,8 @@
 #include "spinmotor/error.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
+#include "spinmotor/mesh/topology.hpp"
+#include "spinmotor/spin/boundary_prescription.hpp"
 #include "spinmotor/spin/curvature_change.hpp"
 #include "spinmotor/spin/scalar_expression.hpp"
 #include "spinmotor/spin/spin_transform.hpp"
@@ -36,7 +38,7 @@ const cli::RegisterCommand reg{
         double rho_scale = 5.0, tolerance = 1e-10;
         int iterations = 50;
         std::string problem = "standard", scale = "area", ordering = "metis";
-        bool json = false, spinxform = false, real_form = false, quiet = false;
+        bool json = false, spinxform = false, real_form = false, quiet = false, keep_boundary = false;
       };
       auto a = std::make_shared<Args>();
       sub.add_option("MESH", a->mesh, "Input mesh (OBJ, OFF, PLY, STL); connected oriented manifold")->required();
@@ -53,6 +55,10 @@ const cli::RegisterCommand reg{
       fac->excludes(ver)->excludes(exp);
       ver->excludes(exp);
       sub.add_option("--out", a->out, "Output mesh (texture coordinates are kept)")->required();
+      sub.add_flag("--keep-boundary-tangents", a->keep_boundary,
+                   "On a mesh with boundary, keep each boundary vertex's tangent direction (§5.7). With free "
+                   "boundaries the eigenproblem has many near-zero modes on some shapes (an open tube: Q_mean "
+                   "above 2 for any bump); the viewer's paint tool always keeps them");
       sub.add_flag("--json", a->json, "Print sizes, timings and quality as JSON");
       sub.add_flag("-q,--quiet", a->quiet, "Print nothing unless --json");
       sub.footer(
@@ -118,9 +124,19 @@ const cli::RegisterCommand reg{
         } else {
           rho = face_rho_from_vertices(mesh.F, read_scalar_values(a->vertices, mesh.V.rows(), "vertices"));
         }
+        const bool has_boundary = !boundary_loops(mesh.F).empty();
+        if (a->keep_boundary) {
+          if (!has_boundary) throw Error("spin: --keep-boundary-tangents: " + a->mesh + " has no boundary");
+          o.boundary = boundary_tangents(mesh.V, mesh.F);
+        }
         SpinTransform st(mesh, o);
         const SpinTransformResult r = st.solve(rho);
         const QuasiConformalSummary q = quasi_conformal_summary(mesh.V, mesh.F, r.V);
+        if (has_boundary && !a->keep_boundary && q.q_mean > 1.2)
+          std::fprintf(stderr,
+                       "spin: warning: the result is far from conformal (Q_mean %.3f) on a mesh with free "
+                       "boundaries; try --keep-boundary-tangents\n",
+                       q.q_mean);
         Mesh out = mesh;
         out.V = r.V;
         if (o.scale != SpinScale::UnitMaxNorm) out.V = ((out.V * radius).rowwise() + centre).eval();

@@ -78,6 +78,27 @@ TEST_CASE("spin with per-face and per-vertex rho files, converged default", "[cl
   CHECK(vertex_distances(m.V, read_mesh(tmp.path / "f.obj").V, Alignment::None).rms < 1e-8);
 }
 
+TEST_CASE("spin on an open tube: free boundaries warn, --keep-boundary-tangents stays conformal", "[cli][spin]") {
+  TempDir tmp;
+  write_mesh(tmp.path / "tube.obj", tube(1.0, 10.0, 100, 40, false));
+  const std::string args = "spin " + tmp.file("tube.obj") + " --rho-expr '0.2*exp(-20*((z-5)^2+(x-1)^2))' --json";
+  const Run free = run_cli(tmp.path, args + " --out " + tmp.file("free.obj"));
+  REQUIRE(free.code == 0);
+  INFO(free.err);
+  CHECK(nlohmann::json::parse(free.out)["q_mean"].get<double>() > 1.5);  // 2.14 measured
+  CHECK(free.err.find("--keep-boundary-tangents") != std::string::npos);
+  const Run kept = run_cli(tmp.path, args + " --keep-boundary-tangents --out " + tmp.file("kept.obj"));
+  REQUIRE(kept.code == 0);
+  CHECK(nlohmann::json::parse(kept.out)["q_mean"].get<double>() < 1.01);  // 1.0022 measured
+  CHECK(kept.err.empty());
+  write_mesh(tmp.path / "sphere.obj", icosphere(2));
+  const Run closed = run_cli(tmp.path, "spin " + tmp.file("sphere.obj") + " --rho-expr 0 --keep-boundary-tangents --out " +
+                                           tmp.file("c.obj"));
+  CHECK(closed.code == 2);
+  CHECK(closed.err.find("no boundary") != std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(tmp.path / "c.obj"));
+}
+
 TEST_CASE("spin errors exit with code 2 and write nothing", "[cli][spin]") {
   TempDir tmp;
   Mesh m = icosphere(2);
