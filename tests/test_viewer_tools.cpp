@@ -311,6 +311,33 @@ TEST_CASE("deformer presets bind on a two-handle scene, with their controls and 
   CHECK(t.controls() == s.controls());
 }
 
+TEST_CASE("renaming a handle renames it in the pose and the spline's from/to, keeping the shape",
+          "[viewer][deformer]") {
+  Session s = Session::open(kScenes / "sh_tube.json");
+  const DeformerPreset p = deformer_preset("spline", s.scene());
+  s.set_deformer(p.deformer, p.ik);
+  s.set_motor("key3", translation({0, 0.5, 0}));
+  const Eigen::MatrixXd before = s.posed();
+  s.rename_handle("tip", "end");
+  CHECK(s.deformer_block()["to"] == "end");
+  CHECK(s.handle_vertices("tip").empty());
+  CHECK_FALSE(s.handle_vertices("end").empty());
+  CHECK((s.posed() - before).cwiseAbs().maxCoeff() < 1e-12);  // same deformer, same pose
+  CHECK_THROWS_AS(s.rename_handle("nope", "x"), Error);
+  CHECK_THROWS_AS(s.rename_handle("end", "base"), Error);  // taken
+  CHECK_THROWS_AS(s.rename_handle("end", ""), Error);
+  CHECK(s.deformer_block()["to"] == "end");  // unchanged after the errors
+  // A posed handle keeps its motor under the new name (surface-harmonic: handles are controls).
+  Session h = Session::open(kScenes / "sh_tube.json");
+  const Eigen::MatrixXd posed = h.posed();
+  const ga::Mot m = h.motor("tip");
+  h.rename_handle("tip", "end");
+  CHECK((h.posed() - posed).cwiseAbs().maxCoeff() < 1e-12);
+  CHECK(ga::to_isometry(h.motor("end")).isApprox(ga::to_isometry(m)));
+  CHECK(h.scene_document()["pose"].contains("end"));
+  CHECK_FALSE(h.scene_document()["pose"].contains("tip"));
+}
+
 TEST_CASE("the IK target is a control: dragging its gizmo re-solves FABRIK and the tip follows",
           "[viewer][ik]") {
   Session s = Session::open(kScenes / "ik_tube.json");  // tube r = 0.25, target (1.5, 0, 3.2)

@@ -389,6 +389,11 @@ void tools_panel(Viewer& v) {
   ImGui::SameLine();
   if (ImGui::Button("clear selection")) v.selection.clear();
   ImGui::SameLine();
+  if (ImGui::Button("rename") && !v.control_name().empty()) {
+    const std::string from = v.control_name(), to = v.new_handle;
+    v.rebind([&] { v.session.rename_handle(from, to); }, "renamed " + from + " to " + to);
+  }
+  ImGui::SameLine();
   if (ImGui::Button("delete handle") && !v.control_name().empty()) {
     const std::string name = v.control_name();
     v.rebind([&] { v.session.remove_handle(name); }, "deleted handle " + name);

@@ -94,6 +94,38 @@ void Session::remove_handle(const std::string& name) {
   rebind(std::move(doc));
 }
 
+void Session::rename_handle(const std::string& name, const std::string& new_name) {
+  const int h = scene_->handle_index(name);
+  if (h < 0) throw Error("viewer: no handle named '" + name + "'");
+  if (new_name.empty()) throw Error("viewer: a handle needs a name");
+  if (new_name == name) return;
+  if (scene_->handle_index(new_name) >= 0 ||
+      std::find(controls_.begin(), controls_.end(), new_name) != controls_.end())
+    throw Error("viewer: there is already a handle or control named '" + new_name + "'");
+  nlohmann::json doc = scene_document();
+  doc["handles"][h]["name"] = new_name;
+  if (doc.contains("pose") && doc["pose"].contains(name)) {
+    doc["pose"][new_name] = doc["pose"][name];
+    doc["pose"].erase(name);
+  }
+  if (doc.contains("deformer"))
+    for (const char* key : {"from", "to"})
+      if (doc["deformer"].value(key, "") == name) doc["deformer"][key] = new_name;
+  // The working pose names controls: carry the motor over so that rebind keeps it.
+  scene::Pose renamed = pose_;
+  if (const auto it = renamed.motors.find(name); it != renamed.motors.end()) {
+    renamed.motors[new_name] = it->second;
+    renamed.motors.erase(name);
+  }
+  std::swap(pose_, renamed);
+  try {
+    rebind(std::move(doc));
+  } catch (...) {
+    std::swap(pose_, renamed);
+    throw;
+  }
+}
+
 std::optional<Eigen::Vector3d> Session::control_anchor(const std::string& name) const {
   if (deformer_)
     if (auto a = deformer_->control_anchor(name)) return a;

@@ -67,6 +67,10 @@ class Session {
   void add_handle(const std::string& name, const std::vector<int>& vertices);
   /// Removes a handle and its pose entry, then rebinds as add_handle. Error if there is no such handle.
   void remove_handle(const std::string& name);
+  /// Renames a handle everywhere the document names it (the handle, its pose entry, the spline
+  /// deformer's `from`/`to`), then rebinds as add_handle. Error for an unknown handle or an empty or
+  /// taken new name; the session is then unchanged.
+  void rename_handle(const std::string& name, const std::string& new_name);
 
   const scene::Pose& pose() const { return pose_; }
   ga::Mot motor(const std::string& name) const { return pose_.motor(name); }
