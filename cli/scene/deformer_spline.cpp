@@ -107,9 +107,7 @@ public:
     json r = {{"max_handle_error", max_handle_error(scene_.mesh.V, V_out, hs, ms)}};
     if (ik) {
       const Handle& to = scene_.handles[to_];
-      Eigen::Vector3d tip = Eigen::Vector3d::Zero();
-      for (Eigen::Index k = 0; k < to.vertices.size(); ++k) tip += V_out.row(to.vertices[k]).transpose();
-      tip /= static_cast<double>(to.vertices.size());
+      const Eigen::Vector3d tip = handle_centroid(V_out, to);
       const Eigen::Vector3d t = ik_target(pose);
       r["ik"] = {{"target", {t.x(), t.y(), t.z()}},
                  {"reachable", ik->reachable},
@@ -139,17 +137,11 @@ public:
   int controls_ = 0, degree_ = 3;  ///< of the chain fit
 
 private:
-  static Eigen::Vector3d centroid(const Eigen::MatrixXd& V, const Handle& h) {
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (Eigen::Index k = 0; k < h.vertices.size(); ++k) c += V.row(h.vertices[k]).transpose();
-    return c / static_cast<double>(h.vertices.size());
-  }
-
   const Scene& scene_;
   SplineDeformer d_;
   int from_, to_;
-  Eigen::Vector3d from_centroid_ = centroid(scene_.mesh.V, scene_.handles[from_]);
-  Eigen::Vector3d to_centroid_ = centroid(scene_.mesh.V, scene_.handles[to_]);
+  Eigen::Vector3d from_centroid_ = handle_centroid(scene_.mesh.V, scene_.handles[from_]);
+  Eigen::Vector3d to_centroid_ = handle_centroid(scene_.mesh.V, scene_.handles[to_]);
   Eigen::Vector3d solved_target_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   std::vector<ga::Mot> motors_;
 };

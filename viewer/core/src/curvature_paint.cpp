@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <memory>
 
 #include "spinmotor/error.hpp"
@@ -34,9 +33,7 @@ int paint_rho(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::V
 SpinPaintWorker::SpinPaintWorker(Mesh rest)
     : LatestJobWorker([rest = std::make_shared<const Mesh>(std::move(rest)),
                        spin = std::shared_ptr<SpinTransform>()](Eigen::VectorXd& rho, std::uint64_t generation) mutable {
-        PaintOutcome out;
-        out.generation = generation;
-        try {
+        return outcome_of<PaintOutcome>(generation, [&](PaintOutcome& out) {
           auto t0 = std::chrono::steady_clock::now();
           if (!spin) {
             // On a surface with boundary the kernel of D is large (any conformal map of a disk is a spin
@@ -52,11 +49,7 @@ SpinPaintWorker::SpinPaintWorker(Mesh rest)
           out.V = spin->solve(rho).V;
           out.solve_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
           out.q_mean = quasi_conformal_summary(rest->V, rest->F, out.V).q_mean;
-        } catch (const std::exception& e) {
-          out.V.resize(0, 3);
-          out.error = e.what();
-        }
-        return out;
+        });
       }) {}
 
 }  // namespace spinmotor::viewer

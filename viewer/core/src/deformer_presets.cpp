@@ -9,12 +9,6 @@ namespace spinmotor::viewer {
 namespace {
 using nlohmann::json;
 
-Eigen::Vector3d centroid(const scene::Scene& s, const Handle& h) {
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  for (Eigen::Index k = 0; k < h.vertices.size(); ++k) c += s.mesh.V.row(h.vertices[k]).transpose();
-  return c / double(h.vertices.size());
-}
-
 json point(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
 
 void need_two_handles(const scene::Scene& s, const std::string& choice) {
@@ -47,7 +41,7 @@ DeformerPreset deformer_preset(const std::string& choice, const scene::Scene& s)
   if (choice == "spline-ik") {
     if (s.deformer_type == "spline" && s.doc.contains("ik")) return {s.deformer, s.doc["ik"]};
     need_two_handles(s, choice);
-    const Eigen::Vector3d a = centroid(s, s.handles[0]), b = centroid(s, s.handles[1]);
+    const Eigen::Vector3d a = handle_centroid(s.mesh.V, s.handles[0]), b = handle_centroid(s.mesh.V, s.handles[1]);
     json chain = json::array();
     for (int i = 0; i < 5; ++i) chain.push_back(point(a + (b - a) * (i / 4.0)));
     return {{{"type", "spline"}, {"from", s.handles[0].name}, {"to", s.handles[1].name}, {"basis", "bspline"}},

@@ -131,10 +131,7 @@ std::optional<Eigen::Vector3d> Session::control_anchor(const std::string& name) 
     if (auto a = deformer_->control_anchor(name)) return a;
   const int h = scene_->handle_index(name);
   if (h < 0) return std::nullopt;
-  const Eigen::VectorXi& v = scene_->handles[h].vertices;
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  for (Eigen::Index k = 0; k < v.size(); ++k) c += scene_->mesh.V.row(v[k]).transpose();
-  return c / double(v.size());
+  return handle_centroid(scene_->mesh.V, scene_->handles[h]);
 }
 
 std::optional<Eigen::Vector3d> Session::posed_anchor(const std::string& name) const {

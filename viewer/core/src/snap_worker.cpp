@@ -1,7 +1,6 @@
 #include "spinmotor/viewer/snap_worker.hpp"
 
 #include <chrono>
-#include <exception>
 #include <memory>
 
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
@@ -18,9 +17,7 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
 SnapWorker::SnapWorker(Mesh rest)
     : LatestJobWorker([rest = std::make_shared<const Mesh>(std::move(rest)),
                        snap = std::shared_ptr<ConformalSnap>()](SnapJob& job, std::uint64_t generation) mutable {
-        SnapOutcome out;
-        out.generation = generation;
-        try {
+        return outcome_of<SnapOutcome>(generation, [&](SnapOutcome& out) {
           if (!snap) {  // bound on the first request, in the worker thread
             snap = std::make_shared<ConformalSnap>(*rest);
             out.bind_ms = snap->bind_ms();
@@ -31,11 +28,7 @@ SnapWorker::SnapWorker(Mesh rest)
           out.snap_ms = ms_since(t0);
           out.Q = quasi_conformal_error(rest->V, rest->F, out.V);
           out.q_mean = quasi_conformal_summary(rest->V, rest->F, out.V).q_mean;
-        } catch (const std::exception& e) {
-          out.V.resize(0, 3);
-          out.error = e.what();
-        }
-        return out;
+        });
       }) {}
 
 }  // namespace spinmotor::viewer

@@ -48,4 +48,11 @@ struct Handle {
 /// shared vertex). `who` prefixes the message (e.g. "SurfaceHarmonicDeformer").
 void check_handles(std::span<const Handle> handles, Eigen::Index n, const char* who);
 
+/// Mean of the rows of V (n×3) listed by the handle (its gizmo anchor, an IK tip); zero for an empty handle.
+inline Eigen::Vector3d handle_centroid(const Eigen::MatrixXd& V, const Handle& h) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (Eigen::Index k = 0; k < h.vertices.size(); ++k) c += V.row(h.vertices[k]).transpose();
+  return h.vertices.size() > 0 ? Eigen::Vector3d(c / static_cast<double>(h.vertices.size())) : c;
+}
+
 }  // namespace spinmotor

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <exception>
 #include <functional>
 #include <mutex>
 #include <optional>
@@ -19,6 +20,22 @@
 #include <utility>
 
 namespace spinmotor::viewer {
+
+/// The body of a worker's `compute`: fills a fresh Outcome (with its generation) through body(out);
+/// an exception becomes out.error with out.V emptied, since a worker's compute must not throw.
+/// Outcome needs `generation`, `V` (a matrix) and `error` (a string).
+template <class Outcome, class Body>
+Outcome outcome_of(std::uint64_t generation, Body&& body) {
+  Outcome out;
+  out.generation = generation;
+  try {
+    body(out);
+  } catch (const std::exception& e) {
+    out.V.resize(0, 3);
+    out.error = e.what();
+  }
+  return out;
+}
 
 template <class Job, class Outcome>
 class LatestJobWorker {
