@@ -11,6 +11,7 @@
 #include <iterator>
 #include <numbers>
 #include <string>
+#include <sys/wait.h>
 
 #include "spinmotor/error.hpp"
 #include "spinmotor/mesh/generators.hpp"
@@ -485,6 +486,30 @@ TEST_CASE("spinmotor-viewer headless: FFD lattice gizmo, IK target drag, box sel
     for (int y = 0; y < H; ++y)
       for (int x = 0; x < W; ++x) red += rho.pixel(x, y)[0] > 150 && rho.pixel(x, y)[1] < 90;
     CHECK(red > 20);  // the painted bump shows in the ρ colouring
+  }
+  SECTION("bad headless input exits 2, names the problem and writes no picture") {
+    const auto scene = scenes / "sh_tube.json";
+    struct Bad {
+      const char* args;
+      const char* says;
+    };
+    for (const Bad& b : {Bad{"--paint 1,1,0.3,1", "misses the mesh"}, Bad{"--paint 120,90,0.3", "expected 4 numbers"},
+                         Bad{"--select-box 1,2,3", "expected 4 numbers"}, Bad{"--add-handle h", "needs --select-box"},
+                         Bad{"--gizmo nope,translate,x,1", "not a control"}, Bad{"--snap --paint 120,90,0.3,1", "give one"},
+                         Bad{"--deformer skin", "skeleton"}}) {
+      INFO(b.args);
+      const auto png = dir / "bad.png", log = dir / "bad.log";
+      const std::string cmd = "xvfb-run -a " + std::string(SPINMOTOR_VIEWER) + " --scene " + scene.string() +
+                              " --screenshot " + png.string() + " --size 240x180 --up z --camera 0,10 " + b.args +
+                              " > " + log.string() + " 2>&1";
+      const int status = std::system(cmd.c_str());
+      const std::string text = read_text(log);
+      INFO(text);
+      REQUIRE(WIFEXITED(status));
+      CHECK(WEXITSTATUS(status) == 2);
+      CHECK(text.find(b.says) != std::string::npos);
+      CHECK_FALSE(std::filesystem::exists(png));
+    }
   }
   std::filesystem::remove_all(dir);
 }
