@@ -36,13 +36,13 @@
 #include "spinmotor/deform/arap_rotation.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
+#include "spinmotor/core/stopwatch.hpp"
 
 using namespace spinmotor;
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 /// Process CPU time (all threads) in ms: the work done, whatever the load of the (shared) machine.
 double cpu_ms() {
   timespec t;

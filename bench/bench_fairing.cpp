@@ -35,6 +35,7 @@
 #include "spinmotor/spin/edge_constraint_net.hpp"
 #include "spinmotor/spin/face_dirac_operator.hpp"
 #include "spinmotor/spin/willmore_flow.hpp"
+#include "spinmotor/core/stopwatch.hpp"
 
 using namespace spinmotor;
 
@@ -50,9 +51,6 @@ const Mesh& mesh(const std::string& name) {
   return nef;
 }
 
-double ms_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
-}
 
 bool full() { return std::getenv("SPINMOTOR_BENCH_FULL") != nullptr; }
 

@@ -36,12 +36,13 @@
 #include <string>
 #include <vector>
 
-#include "spinmotor/mesh/cholesky_solver.hpp"
+#include "spinmotor/linalg/cholesky_solver.hpp"
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/mesh/generators.hpp"
-#include "spinmotor/mesh/lu_solver.hpp"
+#include "spinmotor/linalg/lu_solver.hpp"
 #include "spinmotor/mesh/mass_matrix.hpp"
 #include "spinmotor/mesh/mean_value_laplacian.hpp"
+#include "spinmotor/core/stopwatch.hpp"
 
 using namespace spinmotor;
 using SpMat = Eigen::SparseMatrix<double>;
@@ -49,7 +50,6 @@ using SpMat = Eigen::SparseMatrix<double>;
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 struct Size {
   const char* label;

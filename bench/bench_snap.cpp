@@ -41,6 +41,7 @@
 #include "spinmotor/mesh/metrics/distances.hpp"
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
+#include "spinmotor/core/stopwatch.hpp"
 
 using namespace spinmotor;
 using Eigen::Index;
@@ -51,7 +52,6 @@ namespace {
 
 const std::string kMeshes = SPINMOTOR_MESHES_DIR;
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
 bool quick() {
   const char* q = std::getenv("SPINMOTOR_BENCH_QUICK");

@@ -24,10 +24,11 @@
 #include "spinmotor/deform/chain_fit.hpp"
 #include "spinmotor/deform/fabrik.hpp"
 #include "spinmotor/deform/spline_deformer.hpp"
-#include "spinmotor/error.hpp"
-#include "spinmotor/mesh/atomic_file.hpp"
+#include "spinmotor/core/error.hpp"
+#include "spinmotor/core/atomic_file.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
+#include "spinmotor/core/stopwatch.hpp"
 
 using namespace spinmotor;
 using Clock = std::chrono::steady_clock;
@@ -52,7 +53,6 @@ FabrikOptions fabrik_options() {
   return o;
 }
 
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 /// The vertices of a ring of the tube at height z (the generator places rings at exact heights).
 Handle ring(const Mesh& m, double z, const std::string& name) {

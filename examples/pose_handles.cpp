@@ -27,13 +27,14 @@
 #include <numbers>
 
 #include "spinmotor/deform/surface_harmonic.hpp"
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/ga.hpp"
-#include "spinmotor/mesh/atomic_file.hpp"
+#include "spinmotor/core/atomic_file.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/metrics/deformation_metrics.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
+#include "spinmotor/core/stopwatch.hpp"
 
 using namespace spinmotor;
 using Clock = std::chrono::steady_clock;
@@ -43,7 +44,6 @@ namespace {
 
 const ga::Mot kStay(1, 0, 0, 0, 0, 0, 0, 0);  // the identity motor: a handle that stays
 
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 Handle box(const Mesh& m, const Vector3d& lo, const Vector3d& hi, const std::string& name) {
   std::vector<int> v;

@@ -22,13 +22,14 @@
 #include <numbers>
 
 #include "spinmotor/deform/skinning.hpp"
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/ga.hpp"
-#include "spinmotor/mesh/atomic_file.hpp"
+#include "spinmotor/core/atomic_file.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/metrics/deformation_metrics.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
+#include "spinmotor/core/stopwatch.hpp"
 
 using namespace spinmotor;
 using Clock = std::chrono::steady_clock;
@@ -36,7 +37,6 @@ using Eigen::Vector3d;
 
 namespace {
 
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 /// Enclosed volume of a closed, outward-oriented mesh (divergence theorem).
 double volume(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {

@@ -6,22 +6,22 @@
 #include <sstream>
 
 #include "spinmotor/deform/arap_rotation.hpp"
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
 #include "spinmotor/mesh/topology.hpp"
 #include "spinmotor/mesh/validate.hpp"  // require(): names a degenerate face
+#include "spinmotor/core/stopwatch.hpp"
+#include "spinmotor/core/parallel.hpp"
 
 namespace spinmotor {
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 constexpr const char* kWho = "ArapDeformer";
 // Loops over fewer vertices run serially: waking the threads every iteration costs more than it saves.
-constexpr Eigen::Index kMinParallel = 4096;
 
 /// Cheap unit-motor check (no string built on the good path); the message comes from checked_unit_motor.
 ga::Mot unit_motor(const ga::Mot& m, std::size_t j, const std::string& handle) {
@@ -510,7 +510,7 @@ double ArapDeformer::local_step() {
   const int* rim_off = rim_off_.empty() ? nullptr : rim_off_.data();
   double total = 0.0;
   Eigen::Index jacobi = 0;
-#pragma omp parallel for schedule(static) reduction(+ : total, jacobi) if (n >= kMinParallel)
+#pragma omp parallel for schedule(static) reduction(+ : total, jacobi) if (parallel::worth(n, parallel::kRotationFit))
   for (Eigen::Index i = 0; i < n; ++i) {
     Eigen::Matrix3d S;
     double ap;
@@ -537,7 +537,7 @@ void ArapDeformer::global_step() {
   if (nf == 0) return;
   auto t = Clock::now();
   // Eq. (12)–(13): rhs_k = B_i − (L_FC X_C)_k for the free vertex i of row k, B_i = R_i h_i + Σ_j R_j h_ij.
-#pragma omp parallel for schedule(static) if (nf >= kMinParallel)
+#pragma omp parallel for schedule(static) if (parallel::worth(nf, parallel::kRotationFit))
   for (Eigen::Index k = 0; k < nf; ++k) {
     const int i = free_order_[k];
     Eigen::Vector3d b = Rm_[i] * h_self_.row(i).transpose();
@@ -548,7 +548,7 @@ void ArapDeformer::global_step() {
   t = Clock::now();
   XF_ = chol_.solve(rhs_);  // L_FF X_F = B_F − L_FC X_C, three columns at once
   report_.solve_ms += ms_since(t);
-#pragma omp parallel for schedule(static) if (nf >= kMinParallel)
+#pragma omp parallel for schedule(static) if (parallel::worth(nf, parallel::kRotationFit))
   for (Eigen::Index k = 0; k < nf; ++k) {
     const int i = free_order_[k];
     X_(i, 0) = XF_(k, 0), X_(i, 1) = XF_(k, 1), X_(i, 2) = XF_(k, 2);
@@ -631,7 +631,7 @@ double ArapDeformer::energy(const Eigen::MatrixXd& V) const {
   const Eigen::Index n = P_.rows();
   const int* rim_off = rim_off_.empty() ? nullptr : rim_off_.data();
   double total = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : total) if (n >= kMinParallel)
+#pragma omp parallel for schedule(static) reduction(+ : total) if (parallel::worth(n, parallel::kRotationFit))
   for (Eigen::Index i = 0; i < n; ++i) {
     Eigen::Matrix3d S;
     double ap;

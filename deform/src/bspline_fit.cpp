@@ -7,7 +7,7 @@
 
 #include "spinmotor/deform/motor_blend_field.hpp"
 #include "spinmotor/deform/spline_basis.hpp"
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 
 namespace spinmotor {
 

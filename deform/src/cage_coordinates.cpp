@@ -11,8 +11,9 @@
 #include <Eigen/SparseCore>
 
 #include "spinmotor/deform/deformer.hpp"
-#include "spinmotor/error.hpp"
-#include "spinmotor/mesh/cholesky_solver.hpp"
+#include "spinmotor/core/error.hpp"
+#include "spinmotor/linalg/cholesky_solver.hpp"
+#include "spinmotor/core/parallel.hpp"
 
 namespace spinmotor {
 
@@ -74,7 +75,7 @@ void require_inside(const Eigen::MatrixXd& C, const Eigen::MatrixXi& CF, const E
   for (Index i = 0; i < n; ++i)
     if (!X.row(i).allFinite()) throw Error("point " + std::to_string(i) + " is not finite");
   Eigen::VectorXd w(n);
-#pragma omp parallel for schedule(static) if (n > 256)
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kCageSum))
   for (Index i = 0; i < n; ++i) w[i] = cage_winding_number(C, CF, X.row(i).transpose());
   const double tol = 1e-12 * cage_scale(C);
   for (Index i = 0; i < n; ++i) {
@@ -142,7 +143,7 @@ Eigen::MatrixXd mean_value_coordinates(const Eigen::MatrixXd& C, const Eigen::Ma
   require_inside(C, CF, X);
   Eigen::MatrixXd W = Eigen::MatrixXd::Zero(n, k);
   const double eps = 1e-12 * cage_scale(C);
-#pragma omp parallel for schedule(dynamic, 64) if (n > 256)
+#pragma omp parallel for schedule(dynamic, 64) if (parallel::worth(n, parallel::kCageSum))
   for (Index i = 0; i < n; ++i) {
     const Vector3d x = X.row(i).transpose();
     Eigen::VectorXd d(k);
@@ -303,7 +304,7 @@ Eigen::MatrixXd harmonic_cage_coordinates(const Eigen::MatrixXd& C, const Eigen:
   // Trilinear interpolation at the points.
   Eigen::MatrixXd W = Eigen::MatrixXd::Zero(n, k);
   bool missing = false;
-#pragma omp parallel for schedule(static) if (n > kParallelBelow) reduction(|| : missing)
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend)) reduction(|| : missing)
   for (Index i = 0; i < n; ++i) {
     const Vector3d s = (X.row(i).transpose() - origin) / h;
     int c0[3];

@@ -3,7 +3,7 @@
 #include <string>
 
 #include "spinmotor/deform/cage_coordinates.hpp"
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 
 namespace spinmotor {
 

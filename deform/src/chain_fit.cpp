@@ -6,7 +6,8 @@
 #include <sstream>
 
 #include "spinmotor/deform/deformer.hpp"
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
+#include "spinmotor/core/parallel.hpp"
 
 namespace spinmotor {
 
@@ -89,7 +90,7 @@ Eigen::VectorXd chain_parameters(const Eigen::MatrixXd& V, const Eigen::VectorXd
   s /= total;
   // s_v: arc length of the closest point of the polyline to each vertex.
   Eigen::VectorXd sv(n);
-#pragma omp parallel for schedule(static) if (n > kParallelBelow)
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend))
   for (Eigen::Index v = 0; v < n; ++v) {
     const Eigen::Vector3d x = V.row(v).transpose();
     double best = std::numeric_limits<double>::infinity(), bs = 0.0;
@@ -107,7 +108,7 @@ Eigen::VectorXd chain_parameters(const Eigen::MatrixXd& V, const Eigen::VectorXd
   for (Eigen::Index i = 1; i + 1 < k; ++i) {
     const double h = 0.5 * std::min(s[i] - s[i - 1], s[i + 1] - s[i]);
     double sw = 0.0, swl = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : sw, swl) if (n > kParallelBelow)
+#pragma omp parallel for schedule(static) reduction(+ : sw, swl) if (parallel::worth(n, parallel::kMotorBlend))
     for (Eigen::Index v = 0; v < n; ++v) {
       const double w = 1.0 - std::abs(sv[v] - s[i]) / h;
       if (w > 0.0) sw += w, swl += w * lambda[v];

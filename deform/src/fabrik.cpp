@@ -4,7 +4,7 @@
 #include <sstream>
 #include <vector>
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 
 namespace spinmotor {
 

@@ -6,7 +6,8 @@
 
 #include "dlb_point.hpp"
 #include "spinmotor/deform/motor_blend_field.hpp"
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
+#include "spinmotor/core/parallel.hpp"
 
 namespace spinmotor {
 
@@ -91,7 +92,7 @@ void run(const Eigen::MatrixXd& P, const std::vector<unsigned char>& inside,
   const Eigen::Index n = P.rows(), L = static_cast<Eigen::Index>(dims[0]) * dims[1] * dims[2];
   const int stride = order[0] + order[1] + order[2];
   bool cancelled = false;
-#pragma omp parallel for schedule(static) if (n > kParallelBelow) reduction(|| : cancelled)
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend)) reduction(|| : cancelled)
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::Vector3d p(P(i, 0), P(i, 1), P(i, 2));
     if (!inside[i]) {
@@ -193,7 +194,7 @@ FfdDeformer FfdDeformer::bind(const Eigen::MatrixXd& V, const Options& options) 
   if (options.mode == Mode::Motor && options.blend == ga::Blend::Linear) f.pivot_.assign(n, 0);
   const Eigen::Vector3d lo = f.box_.min(), inv = f.box_.sizes().cwiseInverse();
   Eigen::Index outside = 0;
-#pragma omp parallel for schedule(static) if (n > kParallelBelow) reduction(+ : outside)
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend)) reduction(+ : outside)
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::Vector3d s = (V.row(i).transpose() - lo).cwiseProduct(inv);  // local coordinates (§V)
     if (!((s.array() >= 0.0).all() && (s.array() <= 1.0).all())) {

@@ -3,9 +3,9 @@
 #include <string>
 #include <vector>
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
-#include "spinmotor/mesh/dirichlet_solver.hpp"
+#include "spinmotor/linalg/dirichlet_solver.hpp"
 #include "spinmotor/mesh/mean_value_laplacian.hpp"
 
 namespace spinmotor {

@@ -4,8 +4,9 @@
 #include <sstream>
 
 #include "spinmotor/deform/deformer.hpp"
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 #include "dlb_point.hpp"
+#include "spinmotor/core/parallel.hpp"
 
 namespace spinmotor {
 
@@ -100,7 +101,7 @@ void run_linear_pose(const MotorBlendField::Weights& W, const Eigen::MatrixXd& P
                      const std::vector<ga::Mot>& motors, const std::vector<double>& signs, Eigen::MatrixXd& V_out) {
   const Eigen::Index n = P.rows(), k = W.cols(), blocks = n / 4;
   const double* w = W.data();
-#pragma omp parallel for schedule(static) if (n > kParallelBelow)
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend))
   for (Eigen::Index b = 0; b < blocks; ++b) dlb_block(w, k, pivot.data(), motors.data(), signs.data(), P, 4 * b, V_out);
   for (Eigen::Index i = 4 * blocks; i < n; ++i)
     V_out.row(i) = detail::dlb_point(linear_sum(w + i * k, k, pivot[i], motors.data(), signs.data()).data(),
@@ -118,7 +119,7 @@ void run_field(const MotorBlendField::Weights& W, const Eigen::MatrixXd& P,
   const ga::Dll* lg = logs.data();
   const ga::Mot* mo = motors.data();
   const double* sg = signs.data();
-#pragma omp parallel for schedule(static) if (n > kParallelBelow)
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend))
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::Vector3d p(P(i, 0), P(i, 1), P(i, 2));
     ga::Mot m = field_motor<Mode>(w + i * k, k, pv ? pv[i] : 0, lg, mo, sg);

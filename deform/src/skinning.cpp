@@ -8,7 +8,8 @@
 
 #include "dlb_point.hpp"
 #include "spinmotor/deform/motor_blend_field.hpp"
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
+#include "spinmotor/core/parallel.hpp"
 
 namespace spinmotor {
 
@@ -258,7 +259,7 @@ void SkinDeformer::pose(std::span<const ga::Mot> frames, Eigen::MatrixXd& V_out)
   switch (options_.blend) {
     case Blend::LBS: {
       const Eigen::Matrix<double, 3, 4>* T = matrices_.data();
-#pragma omp parallel for schedule(static) if (n > kParallelBelow)
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend))
       for (Eigen::Index i = 0; i < n; ++i) {
         const Influence& f = inf[i];
         const Eigen::Matrix<double, 3, 4> M =
@@ -272,7 +273,7 @@ void SkinDeformer::pose(std::span<const ga::Mot> frames, Eigen::MatrixXd& V_out)
       const ga::Mot* K = motions_.data();
       const double* S = signs_.data();
       bool cancelled = false;
-#pragma omp parallel for schedule(static) if (n > kParallelBelow) reduction(|| : cancelled)
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend)) reduction(|| : cancelled)
       for (Eigen::Index i = 0; i < n; ++i) {
         const Influence& f = inf[i];
         const double* sp = S + static_cast<Eigen::Index>(f.bone[0]) * B;
@@ -291,7 +292,7 @@ void SkinDeformer::pose(std::span<const ga::Mot> frames, Eigen::MatrixXd& V_out)
       const bool pivot = options_.blend == Blend::PivotLog;
       const ga::Dll* L = logs_.data();
       const ga::Mot* K = motions_.data();
-#pragma omp parallel for schedule(static) if (n > kParallelBelow)
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend))
       for (Eigen::Index i = 0; i < n; ++i) {
         const Influence& f = inf[i];
         const ga::Dll* l = pivot ? L + static_cast<Eigen::Index>(f.bone[0]) * B : L;

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 
 namespace spinmotor {
 

@@ -1,6 +1,7 @@
 #include "spinmotor/deform/spline_deformer.hpp"
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
+#include "spinmotor/core/parallel.hpp"
 
 namespace spinmotor {
 
@@ -14,7 +15,7 @@ SplineDeformer SplineDeformer::bind(const Mesh& rest, std::span<const Handle> ha
   d.lambda_ = harmonic_field(rest.V, rest.F, handles[0], handles[1], options.weights);
   const Eigen::Index n = rest.V.rows();
   MotorBlendField::Weights W(n, options.keys);
-#pragma omp parallel for schedule(static) if (n > kParallelBelow)
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend))
   for (Eigen::Index i = 0; i < n; ++i)
     spline_weights(options.basis, options.keys, options.degree, d.lambda_[i], W.row(i).data());  // W_j(λ_i)
   d.field_ = MotorBlendField::bind(rest.V, std::move(W), ga::Blend::Log, options.rest_keys);

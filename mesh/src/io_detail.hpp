@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 
 namespace spinmotor::io_detail {

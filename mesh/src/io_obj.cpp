@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "io_detail.hpp"
-#include "spinmotor/mesh/atomic_file.hpp"
+#include "spinmotor/core/atomic_file.hpp"
 #include "spinmotor/mesh/io.hpp"
 
 namespace spinmotor {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include "spinmotor/core/parallel.hpp"
 
 namespace spinmotor::detail {
 
@@ -20,10 +21,10 @@ void check_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const char* 
   if (n > std::numeric_limits<int>::max() / 2 || m > std::numeric_limits<int>::max() / 3)
     throw Error(std::string(who) + ": mesh too large for 32-bit sparse indices");
   Eigen::Index bad_v = n, bad_f = m;
-#pragma omp parallel for schedule(static) reduction(min : bad_v) if (n > kParallelGrain)
+#pragma omp parallel for schedule(static) reduction(min : bad_v) if (parallel::worth(n, parallel::kAssembly))
   for (Eigen::Index v = 0; v < n; ++v)
     if (!V.row(v).allFinite()) bad_v = std::min(bad_v, v);
-#pragma omp parallel for schedule(static) reduction(min : bad_f) if (m > kParallelGrain)
+#pragma omp parallel for schedule(static) reduction(min : bad_f) if (parallel::worth(m, parallel::kAssembly))
   for (Eigen::Index f = 0; f < m; ++f)
     for (int c = 0; c < 3; ++c)
       if (F(f, c) < 0 || F(f, c) >= n) bad_f = std::min(bad_f, f);

@@ -8,12 +8,11 @@
 #include <limits>
 #include <vector>
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
+#include "spinmotor/core/parallel.hpp"
 
 namespace spinmotor::detail {
 
-/// Minimum number of items before a loop runs in parallel (below it, thread start-up dominates).
-inline constexpr Eigen::Index kParallelGrain = 20000;
 
 /// Throws Error (prefixed with `who`) unless V is n×3 and finite and F is m×3 with indices in [0, n).
 void check_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const char* who);
@@ -63,7 +62,7 @@ void for_each_face(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, bool need
                    const char* who, Fill&& fill) {
   const Eigen::Index m = F.rows();
   Eigen::Index bad = m;
-#pragma omp parallel for schedule(static) reduction(min : bad) if (m > kParallelGrain)
+#pragma omp parallel for schedule(static) reduction(min : bad) if (parallel::worth(m, parallel::kAssembly))
   for (Eigen::Index f = 0; f < m; ++f) {
     const FaceFrame fr = face_frame(V, F, f);
     if (need_nondegenerate && fr.degenerate()) {
@@ -100,7 +99,7 @@ Eigen::SparseMatrix<double> assemble_vertex_operator(const Eigen::MatrixXi& F, E
   std::vector<int> col_nnz(static_cast<size_t>(n));
   // Pass 1: number of distinct rows per column (the diagonal plus the distinct one-ring neighbours),
   // deduplicated with a per-thread slot array (slot[row] ≥ 0 while row is in the current column).
-#pragma omp parallel if (n > kParallelGrain)
+#pragma omp parallel if (parallel::worth(n, parallel::kAssembly))
   {
     std::vector<int> slot(static_cast<size_t>(n), -1), rows;
 #pragma omp for schedule(static)
@@ -126,7 +125,7 @@ Eigen::SparseMatrix<double> assemble_vertex_operator(const Eigen::MatrixXi& F, E
   double* value = A.valuePtr();
   // Pass 2: accumulate each column's entries in gather order (deterministic sums), then sort the few
   // distinct rows and write them.
-#pragma omp parallel if (n > kParallelGrain)
+#pragma omp parallel if (parallel::worth(n, parallel::kAssembly))
   {
     std::vector<int> slot(static_cast<size_t>(n), -1);
     std::vector<std::pair<int, double>> buf;

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 
 namespace spinmotor {
 namespace {

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <vector>
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/topology.hpp"
 
 namespace spinmotor {

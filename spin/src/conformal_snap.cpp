@@ -9,18 +9,18 @@
 #include <sstream>
 #include <vector>
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/ga/quaternion.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
 #include "spinmotor/mesh/topology.hpp"
 #include "spinmotor/mesh/validate.hpp"
+#include "spinmotor/core/stopwatch.hpp"
 
 namespace spinmotor {
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
 ga::Quat row_quat(const Eigen::MatrixXd& Q, Eigen::Index i) { return ga::Quat(Q(i, 0), Q(i, 1), Q(i, 2), Q(i, 3)); }
 

@@ -5,7 +5,7 @@
 #include <sstream>
 #include <string>
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 
 namespace spinmotor {
 

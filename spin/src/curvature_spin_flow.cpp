@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/ga/quaternion.hpp"
-#include "spinmotor/mesh/cholesky_solver.hpp"
+#include "spinmotor/linalg/cholesky_solver.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 #include "spinmotor/mesh/topology.hpp"

@@ -7,10 +7,11 @@
 #include <numeric>
 #include <sstream>
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
 #include "spinmotor/mesh/topology.hpp"
 #include "spinmotor/spin/quaternion_matrix.hpp"
+#include "spinmotor/core/parallel.hpp"
 
 namespace spinmotor {
 
@@ -18,9 +19,6 @@ namespace {
 
 using RowQuats = Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>;
 
-// Loops over fewer items run serially: a parallel region costs more than they do (and much more on a
-// loaded machine, where a descheduled OpenMP thread stalls the barrier).
-constexpr Eigen::Index kParallelMin = 20000;
 
 void check_rho(const Eigen::VectorXd& rho, Eigen::Index m) {
   if (rho.size() != m) {
@@ -214,7 +212,7 @@ DiracAssembly::DiracAssembly(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
   pattern_.resizeNonZeros(outer[N]);
   std::copy(outer.begin(), outer.end(), pattern_.outerIndexPtr());
   int* inner = pattern_.innerIndexPtr();
-#pragma omp parallel for schedule(static) if (n_ > kParallelMin)
+#pragma omp parallel for schedule(static) if (parallel::worth(n_, parallel::kAssembly))
   for (Eigen::Index j = 0; j < n_; ++j)
     for (int c = 0; c < dof[j]; ++c) {
       int pos = outer[dof_offset_[j] + c];
@@ -240,7 +238,7 @@ void DiracAssembly::fill(const Eigen::VectorXd& scale, const Eigen::VectorXd& di
   const int* outer = K.outerIndexPtr();
   double* val = K.valuePtr();
   const bool scaled = scale.size() == n_;
-#pragma omp parallel for schedule(dynamic, 256) if (n_ > kParallelMin)
+#pragma omp parallel for schedule(dynamic, 256) if (parallel::worth(n_, parallel::kAssembly))
   for (Eigen::Index j = 0; j < n_; ++j) {
     const int oj = order_[j];
     const double sj = scaled ? scale[oj] : 1.0;
@@ -293,7 +291,7 @@ void DiracAssembly::normal_entries(const Eigen::VectorXd& rho, Eigen::VectorXd& 
   diag.resize(n_);
   edge_q.resize(ne, 4);
   // Per vertex: Σ_f |e_a|²/(4A) + A ρ²/9 (the real diagonal of A*A).
-#pragma omp parallel for schedule(static) if (n_ > kParallelMin)
+#pragma omp parallel for schedule(static) if (parallel::worth(n_, parallel::kAssembly))
   for (Eigen::Index i = 0; i < n_; ++i) {
     double d = 0;
     for (int t = VF_offset_[i]; t < VF_offset_[i + 1]; ++t) {
@@ -305,7 +303,7 @@ void DiracAssembly::normal_entries(const Eigen::VectorXd& rho, Eigen::VectorXd& 
   }
   // Per edge (E0, E1): Σ_f of the entry (a, b) = (F(f,c), F(f,c+1)), conjugated when a = E1.
   //   −e_a e_b/(4A) = (e_a·e_b − e_a×e_b)/(4A), and e_c × e_{c+1} = 2A N, so the vector part is −N/2.
-#pragma omp parallel for schedule(static) if (ne > kParallelMin)
+#pragma omp parallel for schedule(static) if (parallel::worth(ne, parallel::kAssembly))
   for (Eigen::Index e = 0; e < ne; ++e) {
     Eigen::Vector4d q = Eigen::Vector4d::Zero();
     for (int t = EF_offset_[e]; t < EF_offset_[e + 1]; ++t) {
@@ -327,7 +325,7 @@ void DiracAssembly::mixed_entries(const Eigen::VectorXd& rho, Eigen::VectorXd& d
   const Eigen::Index ne = E_.rows();
   diag.resize(n_);
   edge_q.resize(ne, 4);
-#pragma omp parallel for schedule(static) if (n_ > kParallelMin)
+#pragma omp parallel for schedule(static) if (parallel::worth(n_, parallel::kAssembly))
   for (Eigen::Index i = 0; i < n_; ++i) {
     double d = 0;
     for (int t = VF_offset_[i]; t < VF_offset_[i + 1]; ++t) {
@@ -337,7 +335,7 @@ void DiracAssembly::mixed_entries(const Eigen::VectorXd& rho, Eigen::VectorXd& d
     diag[i] = d;
   }
   // (B*A)_ab = Σ_f −e_b/6 − Aρ/9 with b = E1 (the column of the stored entry (E0, E1)).
-#pragma omp parallel for schedule(static) if (ne > kParallelMin)
+#pragma omp parallel for schedule(static) if (parallel::worth(ne, parallel::kAssembly))
   for (Eigen::Index e = 0; e < ne; ++e) {
     Eigen::Vector4d q = Eigen::Vector4d::Zero();
     for (int t = EF_offset_[e]; t < EF_offset_[e + 1]; ++t) {
@@ -397,7 +395,7 @@ const Eigen::SparseMatrix<std::complex<double>>& DiracAssembly::complex_pattern(
   P.resizeNonZeros(outer[2 * n_]);
   std::copy(outer.begin(), outer.end(), P.outerIndexPtr());
   int* inner = P.innerIndexPtr();
-#pragma omp parallel for schedule(static) if (n_ > kParallelMin)
+#pragma omp parallel for schedule(static) if (parallel::worth(n_, parallel::kAssembly))
   for (Eigen::Index j = 0; j < n_; ++j)
     for (int c = 0; c < 2; ++c) {
       int pos = outer[2 * j + c];
@@ -426,7 +424,7 @@ void DiracAssembly::fill_complex(const Eigen::VectorXd& scale, const Eigen::Vect
   const int* outer = K.outerIndexPtr();
   C* val = K.valuePtr();
   const bool scaled = scale.size() == n_;
-#pragma omp parallel for schedule(static) if (n_ > kParallelMin)
+#pragma omp parallel for schedule(static) if (parallel::worth(n_, parallel::kAssembly))
   for (Eigen::Index j = 0; j < n_; ++j) {
     const double sj = scaled ? scale[order_[j]] : 1.0;
     const double d = sj * sj * diag[order_[j]];

@@ -10,8 +10,8 @@
 #include <sstream>
 #include <string>
 
-#include "cholmod_llt.hpp"
-#include "spinmotor/error.hpp"
+#include "spinmotor/linalg/cholmod_llt.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 #include "spinmotor/mesh/validate.hpp"
 #include "spinmotor/spin/dirac_assembly.hpp"

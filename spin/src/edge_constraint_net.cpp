@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 #include "spinmotor/mesh/topology.hpp"

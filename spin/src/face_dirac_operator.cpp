@@ -4,9 +4,9 @@
 #include <sstream>
 #include <vector>
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/ga/quaternion.hpp"
-#include "spinmotor/mesh/cholesky_solver.hpp"
+#include "spinmotor/linalg/cholesky_solver.hpp"
 #include "spinmotor/mesh/topology.hpp"
 #include "spinmotor/spin/quaternion_matrix.hpp"
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 
 // stb_image, private to this translation unit (static functions: no clash with other users of stb).
 #define STB_IMAGE_STATIC

@@ -7,7 +7,7 @@
 #include <memory>
 #include <sstream>
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 
 namespace spinmotor {
 

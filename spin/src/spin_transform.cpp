@@ -10,15 +10,17 @@
 #include <sstream>
 #include <vector>
 
-#include "spinmotor/error.hpp"
-#include "spinmotor/mesh/cholesky_solver.hpp"
+#include "spinmotor/core/error.hpp"
+#include "spinmotor/linalg/cholesky_solver.hpp"
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
 #include "spinmotor/mesh/topology.hpp"
 #include "spinmotor/mesh/validate.hpp"
 #include "spinmotor/ga/quaternion.hpp"
 #include "spinmotor/spin/quaternion_matrix.hpp"
-#include "cholmod_llt.hpp"
+#include "spinmotor/linalg/cholmod_llt.hpp"
+#include "spinmotor/core/stopwatch.hpp"
+#include "spinmotor/core/parallel.hpp"
 
 namespace spinmotor {
 
@@ -26,7 +28,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using ComplexLLT = detail::CholmodLLT<std::complex<double>>;
-double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
 CholeskySolver::Ordering to_cholmod(VertexOrdering o) {
   switch (o) {
@@ -250,7 +251,7 @@ IterationResult krylov_inverse_iteration(const Eigen::SparseMatrix<Scalar>& K, c
 Eigen::MatrixXd transformed_edges(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E, const Eigen::MatrixXd& lambda) {
   if (lambda.rows() != V.rows() || lambda.cols() != 4) throw Error("transformed_edges: lambda must be n x 4");
   Eigen::MatrixXd out(E.rows(), 3);
-#pragma omp parallel for schedule(static) if (E.rows() > 60000)
+#pragma omp parallel for schedule(static) if (parallel::worth(E.rows(), parallel::kAssembly))
   for (Eigen::Index e = 0; e < E.rows(); ++e) {
     const int a = E(e, 0), b = E(e, 1);
     const ga::Quat li(lambda(a, 0), lambda(a, 1), lambda(a, 2), lambda(a, 3));

@@ -1,5 +1,5 @@
 // Uses the installed headers and libraries: builds a mesh, reads its topology, checks a number.
-#include <spinmotor/error.hpp>
+#include <spinmotor/core/error.hpp>
 #include <spinmotor/mesh/mesh.hpp>
 #include <spinmotor/mesh/topology.hpp>
 

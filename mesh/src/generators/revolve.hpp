@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 
 namespace spinmotor::detail {

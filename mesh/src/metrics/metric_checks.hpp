@@ -7,7 +7,7 @@
 #include <limits>
 #include <string>
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 
 namespace spinmotor::detail {
 

@@ -58,7 +58,7 @@
 
 #include "spinmotor/deform/deformer.hpp"
 #include "spinmotor/deform/motor_blend_field.hpp"
-#include "spinmotor/mesh/cholesky_solver.hpp"
+#include "spinmotor/linalg/cholesky_solver.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 
 namespace spinmotor {

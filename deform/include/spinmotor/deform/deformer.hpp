@@ -19,8 +19,8 @@
 //   One unit motor per control (handle, key, lattice point ... in the order the deformer documents),
 //   motors relative to the rest pose (all identities reproduce the rest mesh). Writes the n×3
 //   deformed positions into V_out, which is resized only if its size is wrong (so from the second
-//   frame on pose() allocates nothing). Parallel over vertices (OpenMP, from kParallelBelow vertices
-//   on). Non-const because a deformer may keep per-frame scratch (prepared motor logarithms, ARAP's
+//   frame on pose() allocates nothing). Parallel over vertices (OpenMP, from
+//   parallel::kMotorBlend vertices on, core/parallel.hpp). Non-const because a deformer may keep per-frame scratch (prepared motor logarithms, ARAP's
 //   warm start): one pose() at a time per object. Throws Error on a wrong motor count or a
 //   non-finite motor.
 //
@@ -32,10 +32,6 @@
 #include <string>
 
 namespace spinmotor {
-
-/// Per-vertex loops run serially below this many vertices: an OpenMP fork/join costs more than the
-/// work there, and far more when the cores are oversubscribed (a descheduled spinning thread).
-inline constexpr long kParallelBelow = 8192;
 
 /// A named set of vertices that one motor (or one boundary condition) acts on.
 struct Handle {

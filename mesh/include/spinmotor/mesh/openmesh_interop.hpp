@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 
 namespace spinmotor {

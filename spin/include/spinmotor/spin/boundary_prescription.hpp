@@ -8,7 +8,7 @@
 #include <sstream>
 #include <vector>
 
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 #include "spinmotor/mesh/topology.hpp"
 #include "spinmotor/spin/spin_transform.hpp"

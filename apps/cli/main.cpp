@@ -1,0 +1,37 @@
+// spinmotor: the command-line tool. See `spinmotor --help` and README.md.
+#include "command.hpp"
+
+#include "spinmotor/core/error.hpp"
+
+#include <algorithm>
+#include <iostream>
+
+namespace spinmotor::cli {
+std::vector<Command>& commands() {
+  static std::vector<Command> registry;
+  return registry;
+}
+}  // namespace spinmotor::cli
+
+int main(int argc, char** argv) {
+  using namespace spinmotor;
+  CLI::App app{"spinmotor: deform triangle meshes with CGA motors and snap edits onto spin transformations"};
+  app.set_version_flag("--version", std::string("spinmotor ") + SPINMOTOR_VERSION);
+  app.require_subcommand(1);
+  auto& cmds = cli::commands();
+  std::sort(cmds.begin(), cmds.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
+  for (auto& c : cmds) c.setup(*app.add_subcommand(c.name, c.description));
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);
+    return rc == 0 ? 0 : 2;
+  } catch (const Error& e) {
+    std::cerr << "spinmotor: error: " << e.what() << '\n';
+    return e.exit_code();
+  } catch (const std::exception& e) {
+    std::cerr << "spinmotor: internal error: " << e.what() << '\n';
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,210 @@
+// spinmotor-viewer --screenshot: one frame without interaction, every step through the window's code.
+#include "spinmotor/render/gl_api.hpp"  // <GL/glcorearb.h> before GLFW (which then includes no GL header)
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+
+#include "app.hpp"
+#include "spinmotor/core/error.hpp"
+#include "spinmotor/mesh/metrics/quasi_conformal.hpp"
+#include "spinmotor/render/framebuffer.hpp"
+#include "spinmotor/render/offscreen_context.hpp"
+#include "spinmotor/render/render_mesh.hpp"
+#include "spinmotor/viewer/curvature_paint.hpp"
+#include "spinmotor/viewer/deformer_presets.hpp"
+#include "spinmotor/viewer/picking.hpp"
+#include "spinmotor/viewer/selection.hpp"
+#include "spinmotor/viewer/snap_worker.hpp"
+
+namespace spinmotor::viewer::app {
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+/// --select-box / --select-lasso: the visible vertices in a pixel region of `cam`.
+std::vector<int> select_region(const Args& a, Session& s, const render::OrbitCamera& cam, int w, int h) {
+  const Eigen::MatrixXd& V = s.posed();
+  const auto t0 = Clock::now();
+  const DepthMap depth = DepthMap::render(V, s.rest().F, cam, w, h);
+  const double depth_ms = ms_since(t0);
+  const auto t1 = Clock::now();
+  std::vector<int> sel;
+  if (!a.select_box.empty()) {
+    const auto b = parse_numbers(a.select_box, "--select-box", 4);
+    sel = vertices_in_box(V, cam, w, h, {b[0], b[1]}, {b[2], b[3]}, &depth);
+  } else {
+    const auto p = parse_numbers(a.select_lasso, "--select-lasso", 6, true);
+    std::vector<Eigen::Vector2d> lasso;
+    for (std::size_t i = 0; i + 1 < p.size(); i += 2) lasso.emplace_back(p[i], p[i + 1]);
+    sel = vertices_in_lasso(V, cam, w, h, lasso, &depth);
+  }
+  std::printf("selected %zu visible vertices (depth map %.1f ms, selection %.1f ms)\n", sel.size(), depth_ms,
+              ms_since(t1));
+  return sel;
+}
+
+/// --paint X,Y,RADIUS,AMOUNT...: brush dabs at pixels of `cam` (radius a fraction of the scene
+/// radius), then the spin transformation of the painted ρ (the paint worker, waited for).
+PaintOutcome paint(const Args& a, Session& s, const render::OrbitCamera& cam, int w, int h, Eigen::VectorXd& rho) {
+  const Eigen::MatrixXd V = s.posed();
+  rho = Eigen::VectorXd::Zero(s.rest().F.rows());
+  for (const std::string& spec : a.paints) {
+    const auto p = parse_numbers(spec, "--paint", 4);
+    const auto hit = pick(cam.pixel_ray(p[0], p[1], w, h), V, s.rest().F);
+    if (!hit) throw Error("--paint: pixel " + spec.substr(0, spec.find(',', spec.find(',') + 1)) + " misses the mesh");
+    const int touched = paint_rho(V, s.rest().F, hit->point, p[2] * cam.scene_radius, p[3], rho);
+    std::printf("paint: dab at face %lld, %d faces\n", (long long)hit->face, touched);
+  }
+  SpinPaintWorker worker(s.rest());
+  worker.request(rho);
+  worker.wait_idle(600);
+  auto r = worker.take();
+  if (!r || !r->error.empty()) throw Error("paint: spin transformation failed: " + (r ? r->error : std::string("no result")));
+  return std::move(*r);
+}
+
+}  // namespace
+
+int run_headless(const Args& a) {
+  render::RenderOptions o;
+  render::parse_size(a.size, o);
+  if (!a.camera.empty()) render::parse_camera(a.camera, o);
+  render::parse_q_range(a.q_range, o);
+  o.up = Eigen::Vector3d::Unit(a.up[0] - 'x');
+  o.style.color = parse_color(a.color);
+  o.style.smooth = !a.flat;
+  o.style.wireframe = a.wireframe;
+  std::vector<GizmoSpec> gizmos;
+  for (const auto& g : a.gizmos) gizmos.push_back(parse_gizmo(g));
+  if (a.snap && !a.paints.empty()) throw Error("--snap and --paint show different results: give one");
+  if (!a.add_handle.empty() && a.select_box.empty() && a.select_lasso.empty())
+    throw Error("--add-handle needs --select-box or --select-lasso");
+
+  Session s = Session::open(a.doc);
+  if (!a.deformer.empty()) {
+    const DeformerPreset p = deformer_preset(a.deformer, s.scene());
+    s.set_deformer(p.deformer, p.ik);
+    std::printf("deformer %s: %zu controls, bind %.1f ms\n", a.deformer.c_str(), s.controls().size(), s.bind_ms());
+  }
+  // The camera framing the rest mesh: what a user sees when the viewer opens. Selections, picks and
+  // gizmo drags happen in its pixels; the picture frames what is shown.
+  const render::OrbitCamera cam = render::render_camera(s.rest().V, o);
+  if (!a.select_box.empty() || !a.select_lasso.empty()) {
+    const std::vector<int> sel = select_region(a, s, cam, o.width, o.height);
+    if (!a.add_handle.empty()) {
+      s.add_handle(a.add_handle, sel);
+      std::printf("handle %s: %zu vertices, bind %.1f ms\n", a.add_handle.c_str(), sel.size(), s.bind_ms());
+    }
+  }
+  for (const auto& g : gizmos) {
+    s.set_motor(g.control, simulate_drag(s, cam, o.width, o.height, g));
+    s.commit_pose();
+    const Eigen::Vector3d p = *s.posed_anchor(g.control);
+    std::printf("gizmo %s: anchor at %.6f %.6f %.6f\n", g.control.c_str(), p.x(), p.y(), p.z());
+  }
+  Eigen::MatrixXd V = s.posed();
+  std::printf("%s: %lld vertices, %lld faces; bind %.1f ms, pose %.2f ms\n", s.scene().name().c_str(),
+              (long long)V.rows(), (long long)s.rest().F.rows(), s.bind_ms(), s.pose_ms());
+  const double q_edit = quasi_conformal_summary(s.rest().V, s.rest().F, V).q_mean;
+  Eigen::VectorXd rho = Eigen::VectorXd::Zero(s.rest().F.rows());
+  if (a.snap) {
+    SnapWorker worker(s.rest());
+    worker.request(V, a.tradeoff);
+    worker.wait_idle(600);
+    auto r = worker.take();
+    if (!r || !r->error.empty()) throw Error("snap failed: " + (r ? r->error : std::string("no result")));
+    std::printf("snap: Q_mean %.4f -> %.4f (bind %.0f ms, snap %.0f ms)\n", q_edit, r->q_mean, r->bind_ms, r->snap_ms);
+    V = r->V;
+  } else if (!a.paints.empty()) {
+    const PaintOutcome r = paint(a, s, cam, o.width, o.height, rho);
+    const double moved = (r.V - s.rest().V).rowwise().norm().maxCoeff() / cam.scene_radius;
+    std::printf("paint: spin transformation Q_mean %.4f, max displacement %.4f of the scene radius (bind %.0f ms, solve %.0f ms)\n",
+                r.q_mean, moved, r.bind_ms, r.solve_ms);
+    V = r.V;
+  } else {
+    std::printf("Q_mean %.4f\n", q_edit);
+  }
+
+  // A hidden GLFW window (X server or Xvfb) when there is one, else the offscreen context.
+  GLFWwindow* window = nullptr;
+  std::unique_ptr<render::OffscreenContext> offscreen;
+  std::string backend;
+  if (glfwInit()) {
+    glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    window = glfwCreateWindow(64, 64, "spinmotor-viewer", nullptr, nullptr);
+  }
+  if (window) {
+    glfwMakeContextCurrent(window);
+    render::load_gl(glfw_proc);
+    backend = "glfw";
+  } else {
+    offscreen = std::make_unique<render::OffscreenContext>();
+    backend = offscreen->description();
+  }
+  const render::OrbitCamera shot = render::render_camera(V, o);
+  {
+    render::MeshRenderer renderer;
+    render::Framebuffer fb(o.width, o.height, o.samples);
+    renderer.set_mesh(s.rest());
+    renderer.set_positions(V);
+    if (o.style.color == render::ColorMode::Q)
+      renderer.set_face_values(quasi_conformal_error(s.rest().V, s.rest().F, V));
+    if (o.style.color == render::ColorMode::Signed) {
+      renderer.set_face_values(rho);
+      o.style.signed_range = std::max(rho.cwiseAbs().maxCoeff(), 1e-12);
+    }
+    fb.bind();
+    if (a.frames > 0) {
+      // The frame timer: pose (deformer) + upload (normals, float conversion, buffer update) + draw.
+      const std::string h = s.controls().empty() ? "" : s.controls().front();
+      if (h.empty()) throw Error("--frames needs a scene with a control");
+      std::vector<double> pose_ms, upload_ms, pu_ms, draw_ms, frame_ms;
+      const ga::Mot m0 = s.motor(h);
+      int axis = 0;  // the ring that faces the camera best
+      (cam.eye() - cam.target).cwiseAbs().maxCoeff(&axis);
+      for (int f = 0; f < a.frames; ++f) {
+        const auto t0 = Clock::now();
+        GizmoSpec g{h, GizmoMode::Rotate, axis, 30.0 * (f + 1) / a.frames};
+        s.set_motor(h, m0);
+        s.set_motor(h, simulate_drag(s, cam, o.width, o.height, g));
+        const Eigen::MatrixXd& Vf = s.posed();
+        pose_ms.push_back(s.pose_ms());
+        const auto t1 = Clock::now();
+        renderer.set_positions(Vf);
+        upload_ms.push_back(ms_since(t1));
+        pu_ms.push_back(pose_ms.back() + upload_ms.back());
+        const auto t2 = Clock::now();
+        renderer.draw(cam, o.width, o.height, o.style);
+        render::gl.Finish();
+        draw_ms.push_back(ms_since(t2));
+        frame_ms.push_back(ms_since(t0));
+      }
+      std::printf(
+          "frame timer over %d frames (%s, %dx%d): pose %.2f ms, upload %.2f ms, pose+upload %.2f ms, "
+          "draw %.2f ms, frame %.2f ms (medians)\n",
+          a.frames, backend.c_str(), o.width, o.height, median(pose_ms), median(upload_ms), median(pu_ms),
+          median(draw_ms), median(frame_ms));
+    }
+    renderer.draw(shot, o.width, o.height, o.style);
+    render::Image im = fb.read();
+    if (o.style.color == render::ColorMode::Q && o.color_bar) render::draw_color_bar(im, o.style.q_min, o.style.q_max);
+    render::write_png(a.screenshot, im);
+    std::printf("wrote %s (%dx%d, %s)\n", a.screenshot.c_str(), o.width, o.height, backend.c_str());
+  }
+  if (window) glfwDestroyWindow(window);
+  glfwTerminate();
+  return 0;
+}
+
+}  // namespace spinmotor::viewer::app

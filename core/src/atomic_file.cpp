@@ -1,0 +1,104 @@
+#include "spinmotor/core/atomic_file.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <random>
+#include <string>
+#include <system_error>
+
+#include "spinmotor/core/error.hpp"
+
+namespace spinmotor {
+namespace fs = std::filesystem;
+
+namespace {
+
+// A name no other writer (thread or process) uses: ".<target>.<pid>.<counter>.<random>.tmp".
+fs::path temporary_name(const fs::path& target) {
+  static std::atomic<unsigned> counter{0};
+  static const unsigned seed = std::random_device{}();
+  std::string name(1, '.');
+  name += target.filename().string();
+  for (const unsigned long long part :
+       {static_cast<unsigned long long>(::getpid()), static_cast<unsigned long long>(counter++),
+        static_cast<unsigned long long>(seed % 100000)}) {
+    name += '.';
+    name += std::to_string(part);
+  }
+  name += ".tmp";
+  return target.parent_path() / name;
+}
+
+// Makes the temporary's data durable before the rename publishes it (otherwise a crash right after
+// the rename can leave an empty target on some file systems).
+void sync_file(const fs::path& p) {
+  const int fd = ::open(p.c_str(), O_RDONLY);
+  if (fd < 0) return;
+  ::fsync(fd);
+  ::close(fd);
+}
+
+}  // namespace
+
+AtomicFile::AtomicFile(fs::path target, bool binary) : target_(std::move(target)) {
+  if (target_.empty() || !target_.has_filename())
+    throw Error("cannot write '" + target_.string() + "': not a file name");
+  const fs::path dir = target_.parent_path();
+  if (!dir.empty()) {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec)
+      throw Error("cannot create directory '" + dir.string() + "' for '" + target_.string() +
+                  "': " + ec.message());
+  }
+  if (fs::is_directory(target_)) throw Error("cannot write '" + target_.string() + "': it is a directory");
+  temp_ = temporary_name(target_);
+  std::ios::openmode mode = std::ios::out | std::ios::trunc;
+  if (binary) mode |= std::ios::binary;
+  errno = 0;
+  out_.open(temp_, mode);
+  if (!out_)
+    throw Error("cannot open '" + temp_.string() + "' for writing (next to '" + target_.string() +
+                "'): " + (errno ? std::strerror(errno) : "unknown error"));
+}
+
+AtomicFile::~AtomicFile() {
+  if (committed_) return;
+  if (out_.is_open()) out_.close();
+  std::error_code ec;
+  fs::remove(temp_, ec);  // never throws from a destructor; the temporary may not exist
+}
+
+void AtomicFile::commit() {
+  if (committed_) return;
+  out_.flush();
+  const bool write_ok = static_cast<bool>(out_);
+  out_.close();
+  if (!write_ok || out_.fail()) {
+    std::error_code ec;
+    fs::remove(temp_, ec);
+    throw Error("cannot write '" + target_.string() + "': an output error occurred (disk full?)");
+  }
+  sync_file(temp_);
+  std::error_code ec;
+  fs::rename(temp_, target_, ec);
+  if (ec) {
+    std::error_code ec2;
+    fs::remove(temp_, ec2);
+    throw Error("cannot write '" + target_.string() +
+                "': rename of the temporary file failed: " + ec.message());
+  }
+  committed_ = true;
+}
+
+void write_text_atomic(const fs::path& path, std::string_view text) {
+  AtomicFile f(path);
+  f.stream().write(text.data(), static_cast<std::streamsize>(text.size()));
+  f.commit();
+}
+
+}  // namespace spinmotor

@@ -1,0 +1,232 @@
+#include "spinmotor/linalg/cholesky_solver.hpp"
+#include "spinmotor/linalg/blas_threads.hpp"
+
+#include <cholmod.h>
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "solver_detail.hpp"
+#include "spinmotor/core/error.hpp"
+
+namespace spinmotor {
+namespace {
+// Relative pivot size below which a factor is declared numerically singular (cond ≳ 4.5e12).
+constexpr double kSingular = 1e3 * std::numeric_limits<double>::epsilon();
+// Ordering::Auto switches from AMD to METIS at this many rows (bench_laplacian: AMD is faster
+// overall at 100k, METIS at 1M).
+constexpr Eigen::Index kAutoMetisRows = 500000;
+}  // namespace
+
+struct CholeskySolver::Impl {
+  Options options;
+  cholmod_common common{};
+  cholmod_factor* L = nullptr;
+  Eigen::Index n = -1;
+  std::size_t pattern = 0;
+  bool factorized = false;
+
+  explicit Impl(const Options& o) : options(o) {
+    use_single_threaded_blas();
+    cholmod_start(&common);
+    common.print = 0;  // failures are reported by our exceptions, not on stderr
+    common.error_handler = nullptr;
+    common.nmethods = 1;
+    common.method[0].ordering = CHOLMOD_AMD;  // set per matrix in analyze()
+    common.postorder = 1;
+    common.supernodal = o.supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
+  }
+  ~Impl() {
+    if (L) cholmod_free_factor(&L, &common);
+    cholmod_finish(&common);
+  }
+
+  // A view of A's lower triangle: CHOLMOD reads A in place (stype −1 ignores the upper triangle).
+  static cholmod_sparse view(const Eigen::SparseMatrix<double>& A) {
+    cholmod_sparse s{};
+    s.nrow = static_cast<size_t>(A.rows());
+    s.ncol = static_cast<size_t>(A.cols());
+    s.nzmax = static_cast<size_t>(A.nonZeros());
+    s.p = const_cast<int*>(A.outerIndexPtr());
+    s.i = const_cast<int*>(A.innerIndexPtr());
+    s.x = const_cast<double*>(A.valuePtr());
+    s.stype = -1;
+    s.itype = CHOLMOD_INT;
+    s.xtype = CHOLMOD_REAL;
+    s.dtype = CHOLMOD_DOUBLE;
+    s.sorted = 1;
+    s.packed = 1;
+    return s;
+  }
+
+  void check_status(const char* what) const {
+    if (common.status == CHOLMOD_OUT_OF_MEMORY)
+      throw numerical_error(std::string("CholeskySolver: out of memory in CHOLMOD ") + what);
+    if (common.status == CHOLMOD_TOO_LARGE)
+      throw numerical_error(std::string("CholeskySolver: problem too large for CHOLMOD ") + what);
+    if (common.status < 0) {
+      std::ostringstream s;
+      s << "CholeskySolver: CHOLMOD " << what << " failed (status " << common.status << ")";
+      throw numerical_error(s.str());
+    }
+  }
+
+  [[noreturn]] void throw_not_pd(const Eigen::SparseMatrix<double>& A, long k, const std::string& why) const {
+    // Name the original row of the failing pivot and its component: usually a component that floats.
+    const int* perm = static_cast<const int*>(L->Perm);
+    const int row = (perm && k >= 0 && k < static_cast<long>(L->n)) ? perm[k] : static_cast<int>(k);
+    const detail::GraphComponents g = detail::matrix_components(A);
+    std::ostringstream s;
+    s << "CholeskySolver: matrix is not positive definite (CHOLMOD: " << why << "; pivot at row " << row;
+    if (row >= 0 && row < static_cast<int>(A.rows()))
+      s << ", in " << detail::describe_component(g, g.label[row], "row", "rows") << " of " << g.count()
+        << " of the matrix graph";
+    s << ")";
+    throw numerical_error(s.str());
+  }
+};
+
+CholeskySolver::CholeskySolver() : CholeskySolver(Options{}) {}
+CholeskySolver::CholeskySolver(const Options& options) : impl_(std::make_unique<Impl>(options)) {}
+CholeskySolver::~CholeskySolver() = default;
+CholeskySolver::CholeskySolver(CholeskySolver&&) noexcept = default;
+CholeskySolver& CholeskySolver::operator=(CholeskySolver&&) noexcept = default;
+
+void CholeskySolver::analyze(const Eigen::SparseMatrix<double>& A) {
+  Impl& m = *impl_;
+  detail::check_square_finite(A, "CholeskySolver");
+  if (m.L) cholmod_free_factor(&m.L, &m.common);
+  m.factorized = false;
+  m.n = A.rows();
+  m.pattern = detail::pattern_hash(A);
+  if (m.n == 0) return;  // nothing to factor; solve() returns 0×k
+  m.common.method[0].ordering = [&] {
+    switch (m.options.ordering) {
+      case Ordering::Auto: return m.n < kAutoMetisRows ? CHOLMOD_AMD : CHOLMOD_METIS;
+      case Ordering::Natural: return CHOLMOD_NATURAL;
+      case Ordering::AMD: return CHOLMOD_AMD;
+      case Ordering::METIS: return CHOLMOD_METIS;
+      case Ordering::NESDIS: return CHOLMOD_NESDIS;
+    }
+    return CHOLMOD_AMD;
+  }();
+  cholmod_sparse s = Impl::view(A);
+  m.L = cholmod_analyze(&s, &m.common);
+  if (!m.L) m.check_status("analyze"), throw numerical_error("CholeskySolver: CHOLMOD analyze failed");
+}
+
+void CholeskySolver::factorize(const Eigen::SparseMatrix<double>& A) {
+  Impl& m = *impl_;
+  if (!m.L && m.n != 0) throw Error("CholeskySolver: factorize() before analyze()");
+  detail::check_square_finite(A, "CholeskySolver");
+  if (A.rows() != m.n || detail::pattern_hash(A) != m.pattern) {
+    std::ostringstream s;
+    s << "CholeskySolver: factorize() got a " << A.rows() << "x" << A.cols() << " matrix with " << A.nonZeros()
+      << " nonzeros whose pattern differs from the analyzed one (" << m.n << " rows): call compute()";
+    throw Error(s.str());
+  }
+  m.factorized = false;
+  if (m.n == 0) {
+    m.factorized = true;
+    return;
+  }
+  cholmod_sparse s = Impl::view(A);
+  cholmod_factorize(&s, m.L, &m.common);
+  m.check_status("factorize");
+  if (m.common.status == CHOLMOD_NOT_POSDEF || m.L->minor < m.L->n) {
+    std::ostringstream why;
+    why << "leading minor " << m.L->minor;
+    m.throw_not_pd(A, static_cast<long>(m.L->minor), why.str());
+  }
+  if (m.n > 0) {
+    if (!m.L->is_ll) {  // simplicial LDLᵀ succeeds on indefinite matrices: require D > 0
+      const int* p = static_cast<const int*>(m.L->p);
+      const double* x = static_cast<const double*>(m.L->x);
+      for (Eigen::Index j = 0; j < m.n; ++j)
+        if (!(x[p[j]] > 0)) {
+          std::ostringstream why;
+          why << "pivot D(" << j << "," << j << ") = " << x[p[j]];
+          m.throw_not_pd(A, static_cast<long>(j), why.str());
+        }
+    }
+    // A positive semi-definite singular matrix (e.g. a Laplacian with a floating component) ends with
+    // a roundoff pivot of either sign; a positive one passes the factorization. Every pivot of an SPD
+    // matrix is ≥ λ_min(A), so a pivot below kSingular·max_j A(j,j) means cond(A) ≳ 1/kSingular:
+    // numerically singular.
+    double amax = 0;
+    for (Eigen::Index j = 0; j < m.n; ++j)
+      for (int k = A.outerIndexPtr()[j]; k < A.outerIndexPtr()[j + 1]; ++k)
+        if (A.innerIndexPtr()[k] == j) amax = std::max(amax, A.valuePtr()[k]);
+    long kmin = 0;
+    double dmin = std::numeric_limits<double>::infinity();  // smallest pivot d_k (= L(k,k)² for LLᵀ)
+    if (!m.L->is_super) {
+      const int* p = static_cast<const int*>(m.L->p);
+      const double* x = static_cast<const double*>(m.L->x);
+      for (Eigen::Index j = 0; j < m.n; ++j) {
+        const double d = m.L->is_ll ? x[p[j]] * x[p[j]] : x[p[j]];
+        if (d < dmin) dmin = d, kmin = static_cast<long>(j);
+      }
+    } else {
+      const int* super = static_cast<const int*>(m.L->super);
+      const int* pi = static_cast<const int*>(m.L->pi);
+      const int* px = static_cast<const int*>(m.L->px);
+      const double* x = static_cast<const double*>(m.L->x);
+      for (size_t sn = 0; sn < m.L->nsuper; ++sn) {
+        const int k1 = super[sn], k2 = super[sn + 1], nrows = pi[sn + 1] - pi[sn];
+        for (int k = k1; k < k2; ++k) {
+          const double l = x[px[sn] + (k - k1) + static_cast<long>(k - k1) * nrows];
+          if (l * l < dmin) dmin = l * l, kmin = k;
+        }
+      }
+    }
+    if (!(dmin > kSingular * amax)) {
+      std::ostringstream why;
+      why << "numerically singular, smallest pivot " << dmin << " vs largest diagonal entry " << amax;
+      m.throw_not_pd(A, kmin, why.str());
+    }
+  }
+  m.factorized = true;
+}
+
+void CholeskySolver::compute(const Eigen::SparseMatrix<double>& A) {
+  analyze(A);
+  factorize(A);
+}
+
+Eigen::MatrixXd CholeskySolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& B) const {
+  Impl& m = *impl_;
+  if (!m.factorized) throw Error("CholeskySolver: solve() before a successful factorize()");
+  if (B.rows() != m.n) {
+    std::ostringstream s;
+    s << "CholeskySolver: right-hand side has " << B.rows() << " rows, the matrix " << m.n;
+    throw Error(s.str());
+  }
+  Eigen::MatrixXd X(B.rows(), B.cols());
+  if (B.size() == 0) return X;
+  cholmod_dense b{};
+  b.nrow = static_cast<size_t>(B.rows());
+  b.ncol = static_cast<size_t>(B.cols());
+  b.nzmax = b.nrow * b.ncol;
+  b.d = static_cast<size_t>(B.outerStride());
+  b.x = const_cast<double*>(B.data());
+  b.xtype = CHOLMOD_REAL;
+  b.dtype = CHOLMOD_DOUBLE;
+  cholmod_dense* x = cholmod_solve(CHOLMOD_A, m.L, &b, &m.common);
+  if (!x) m.check_status("solve"), throw numerical_error("CholeskySolver: CHOLMOD solve failed");
+  const double* xs = static_cast<const double*>(x->x);
+  for (Eigen::Index j = 0; j < X.cols(); ++j)
+    X.col(j) = Eigen::Map<const Eigen::VectorXd>(xs + j * static_cast<Eigen::Index>(x->d), X.rows());
+  cholmod_free_dense(&x, &m.common);
+  if (!X.allFinite()) throw numerical_error("CholeskySolver: the solution is not finite");
+  return X;
+}
+
+Eigen::Index CholeskySolver::rows() const { return impl_->n < 0 ? 0 : impl_->n; }
+bool CholeskySolver::analyzed() const { return impl_->L != nullptr || impl_->n == 0; }
+bool CholeskySolver::factorized() const { return impl_->factorized; }
+double CholeskySolver::factor_nonzeros() const { return impl_->L ? impl_->common.lnz : 0.0; }
+double CholeskySolver::factor_flops() const { return impl_->L ? impl_->common.fl : 0.0; }
+const CholeskySolver::Options& CholeskySolver::options() const { return impl_->options; }
+
+}  // namespace spinmotor

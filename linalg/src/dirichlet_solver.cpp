@@ -1,0 +1,159 @@
+#include "spinmotor/linalg/dirichlet_solver.hpp"
+
+#include <optional>
+#include <sstream>
+#include <vector>
+
+#include "solver_detail.hpp"
+#include "spinmotor/core/error.hpp"
+
+namespace spinmotor {
+
+struct DirichletSolver::Impl {
+  Options options;
+  Kind kind = Kind::SPD;
+  Eigen::Index n = -1;
+  Eigen::VectorXi constrained, free;
+  Eigen::SparseMatrix<double> A_FC;  // free rows, constrained columns
+  std::optional<CholeskySolver> cholesky;
+  std::optional<LUSolver> lu;
+};
+
+DirichletSolver::DirichletSolver() : DirichletSolver(Options{}) {}
+DirichletSolver::DirichletSolver(const Options& options) : impl_(std::make_unique<Impl>()) {
+  impl_->options = options;
+}
+DirichletSolver::~DirichletSolver() = default;
+DirichletSolver::DirichletSolver(DirichletSolver&&) noexcept = default;
+DirichletSolver& DirichletSolver::operator=(DirichletSolver&&) noexcept = default;
+
+void DirichletSolver::bind(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXi& constrained, Kind kind) {
+  Impl& m = *impl_;
+  m.n = -1;
+  m.cholesky.reset();
+  m.lu.reset();
+  detail::check_square_finite(A, "DirichletSolver");
+  const int n = static_cast<int>(A.rows());
+  // slot[i] = position among the free (≥ 0) or −1 − position among the constrained unknowns.
+  std::vector<int> slot(n, 0);
+  for (Eigen::Index r = 0; r < constrained.size(); ++r) {
+    const int i = constrained[r];
+    if (i < 0 || i >= n) {
+      std::ostringstream s;
+      s << "DirichletSolver: constrained index " << r << " is " << i << ", out of range [0, " << n << ")";
+      throw Error(s.str());
+    }
+    if (slot[i] != 0) {
+      std::ostringstream s;
+      s << "DirichletSolver: vertex " << i << " is constrained twice (constrained indices " << (-1 - slot[i])
+        << " and " << r << ")";
+      throw Error(s.str());
+    }
+    slot[i] = -1 - static_cast<int>(r);
+  }
+  // Every connected component of the matrix graph needs a constrained vertex, else A_FF is singular.
+  const detail::GraphComponents g = detail::matrix_components(A);
+  std::vector<char> anchored(g.count(), 0);
+  for (Eigen::Index r = 0; r < constrained.size(); ++r) anchored[g.label[constrained[r]]] = 1;
+  for (int c = 0; c < g.count(); ++c)
+    if (!anchored[c])
+      throw Error("DirichletSolver: " + detail::describe_component(g, c, "vertex", "vertices") + " of " +
+                  std::to_string(g.count()) + " has no constrained vertex: its values are undetermined");
+  int nf = 0;
+  m.free.resize(n - constrained.size());
+  for (int i = 0; i < n; ++i)
+    if (slot[i] == 0) m.free[nf] = i, slot[i] = nf++;
+  // A_FF and A_FC in compressed column storage, one pass over A (rows stay sorted: the maps are monotone
+  // on the free unknowns; A_FC columns follow the order of `constrained`).
+  const int nc = static_cast<int>(constrained.size());
+  Eigen::SparseMatrix<double> A_FF(nf, nf);
+  m.A_FC.resize(nf, nc);
+  std::vector<int> ff_outer(nf + 1, 0), fc_outer(nc + 1, 0);
+  for (int j = 0; j < n; ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) {
+      if (slot[it.row()] < 0) continue;
+      if (slot[j] >= 0)
+        ++ff_outer[slot[j] + 1];
+      else
+        ++fc_outer[-slot[j]];  // −1 − pos + 1
+    }
+  for (int j = 0; j < nf; ++j) ff_outer[j + 1] += ff_outer[j];
+  for (int j = 0; j < nc; ++j) fc_outer[j + 1] += fc_outer[j];
+  A_FF.resizeNonZeros(ff_outer[nf]);
+  m.A_FC.resizeNonZeros(fc_outer[nc]);
+  std::copy(ff_outer.begin(), ff_outer.end(), A_FF.outerIndexPtr());
+  std::copy(fc_outer.begin(), fc_outer.end(), m.A_FC.outerIndexPtr());
+  for (int j = 0; j < n; ++j) {  // ff_outer / fc_outer now serve as per-column write cursors
+    const bool jf = slot[j] >= 0;
+    Eigen::SparseMatrix<double>& T = jf ? A_FF : m.A_FC;
+    std::vector<int>& cursor = jf ? ff_outer : fc_outer;
+    int& pos = cursor[jf ? slot[j] : -1 - slot[j]];
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) {
+      if (slot[it.row()] < 0) continue;
+      T.innerIndexPtr()[pos] = slot[it.row()];
+      T.valuePtr()[pos] = it.value();
+      ++pos;
+    }
+  }
+
+  m.kind = kind;
+  m.constrained = constrained;
+  try {
+    if (kind == Kind::SPD) {
+      m.cholesky.emplace(m.options.cholesky);
+      m.cholesky->compute(A_FF);
+    } else {
+      m.lu.emplace(m.options.lu);
+      m.lu->compute(A_FF);
+    }
+  } catch (const Error& e) {
+    m.cholesky.reset();
+    m.lu.reset();
+    // The solver names rows of A_FF: translate to the caller's indexing in the message.
+    throw Error(std::string("DirichletSolver: factorizing the free block A_FF failed (free row r is vertex "
+                            "free()[r]): ") + e.what(), e.kind());
+  }
+  m.n = n;
+}
+
+Eigen::MatrixXd DirichletSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& B,
+                                       const Eigen::Ref<const Eigen::MatrixXd>& values) const {
+  const Impl& m = *impl_;
+  if (m.n < 0) throw Error("DirichletSolver: solve() before a successful bind()");
+  const Eigen::Index nc = m.constrained.size(), k = values.cols();
+  if (values.rows() != nc) {
+    std::ostringstream s;
+    s << "DirichletSolver: values have " << values.rows() << " rows, expected one per constrained vertex (" << nc
+      << ")";
+    throw Error(s.str());
+  }
+  const bool zero_rhs = B.size() == 0;
+  if (!zero_rhs && (B.rows() != m.n || B.cols() != k)) {
+    std::ostringstream s;
+    s << "DirichletSolver: right-hand side is " << B.rows() << "x" << B.cols() << ", expected " << m.n << "x" << k
+      << " (or empty for B = 0)";
+    throw Error(s.str());
+  }
+  if (!values.allFinite()) throw Error("DirichletSolver: constrained values are not finite");
+  Eigen::MatrixXd X(m.n, k);
+  for (Eigen::Index r = 0; r < nc; ++r) X.row(m.constrained[r]) = values.row(r);
+  const Eigen::Index nf = m.free.size();
+  if (nf == 0 || k == 0) return X;
+  Eigen::MatrixXd rhs = -(m.A_FC * values);
+  if (!zero_rhs)
+    for (Eigen::Index r = 0; r < nf; ++r) rhs.row(r) += B.row(m.free[r]);
+  const Eigen::MatrixXd xf = m.kind == Kind::SPD ? m.cholesky->solve(rhs) : m.lu->solve(rhs);
+  for (Eigen::Index r = 0; r < nf; ++r) X.row(m.free[r]) = xf.row(r);
+  return X;
+}
+
+Eigen::MatrixXd DirichletSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& values) const {
+  return solve(Eigen::MatrixXd(), values);
+}
+
+Eigen::Index DirichletSolver::rows() const { return impl_->n < 0 ? 0 : impl_->n; }
+bool DirichletSolver::bound() const { return impl_->n >= 0; }
+const Eigen::VectorXi& DirichletSolver::constrained() const { return impl_->constrained; }
+const Eigen::VectorXi& DirichletSolver::free() const { return impl_->free; }
+
+}  // namespace spinmotor

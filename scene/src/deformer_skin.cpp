@@ -1,0 +1,155 @@
+// Scene deformer "skin": SkinDeformer on the scene's top-level `skeleton`, one pose entry per bone name.
+//   {"type": "skin", "weights": "harmonic" | "<file>", "blend": "lbs" | "dlb" | "log" | "pivot-log",
+//    "joint_fraction": f}
+// Defaults: harmonic weights (bone_harmonic_weights with joint_fraction, default 0.25), dlb. A pose entry
+// is the world-space motion of its bone; a bone without an entry keeps its parent's (SCENE.md).
+// Weight files (relative to the scene file): "*.json" is SCENE.md's {"bones": [names], "weights": [[w per
+// bone] per vertex]} (errors name the file and the JSON pointer); any other extension is the text format
+// of read_skin_weights (errors name file:line).
+#include <fstream>
+#include <map>
+
+#include "spinmotor/deform/skinning.hpp"
+#include "spinmotor/core/error.hpp"
+#include "spinmotor/scene/deformer_registry.hpp"
+
+namespace spinmotor::scene {
+
+namespace {
+
+class SkinScene final : public SceneDeformer {
+public:
+  SkinScene(const Scene& s, std::vector<Bone> bones, SkinDeformer d)
+      : scene_(s), bones_(std::move(bones)), d_(std::move(d)) {
+    given_.resize(bones_.size());
+  }
+  std::vector<std::string> controls() const override {
+    std::vector<std::string> names;
+    for (const Bone& b : bones_) names.push_back(b.name);
+    return names;
+  }
+  std::optional<Eigen::Vector3d> control_anchor(const std::string& name) const override {
+    for (const Bone& b : bones_)
+      if (b.name == name) return b.head;  // a bone's motor turns it about its head (the joint)
+    return std::nullopt;
+  }
+  void pose(const Pose& pose, Eigen::MatrixXd& V_out) override {
+    std::vector<bool> has(bones_.size(), false);
+    for (std::size_t j = 0; j < bones_.size(); ++j)
+      if (const auto it = pose.motors.find(bones_[j].name); it != pose.motors.end()) given_[j] = it->second, has[j] = true;
+    try {
+      d_.pose(inherit_bone_motions(bones_, given_, has), V_out);
+    } catch (const Error& e) {
+      throw Error(scene_.name() + ": " + e.what(), e.kind());
+    }
+  }
+  nlohmann::json report(const Pose&, const Eigen::MatrixXd&) const override {
+    return {{"max_handle_error", nullptr}, {"skin", {{"bones", bones_.size()}}}};
+  }
+
+private:
+  const Scene& scene_;
+  std::vector<Bone> bones_;
+  SkinDeformer d_;
+  std::vector<ga::Mot> given_;
+};
+
+Eigen::MatrixXd read_json_weights(const Scene& s, const std::filesystem::path& path, const std::vector<Bone>& bones) {
+  const std::string who = path.string();
+  std::ifstream in(path);
+  if (!in) throw s.error("/deformer/weights", who + ": cannot open the weight file");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw s.error("/deformer/weights", who + ": " + e.what());
+  }
+  auto fail = [&](const std::string& ptr, const std::string& msg) { throw s.error("/deformer/weights", who + ": " + ptr + ": " + msg); };
+  if (!j.is_object() || !j.contains("bones") || !j.contains("weights") || !j["bones"].is_array() || !j["weights"].is_array())
+    fail("", "expected {\"bones\": [names], \"weights\": [[w per bone] per vertex]}");
+  std::map<std::string, int> index;
+  for (std::size_t b = 0; b < bones.size(); ++b) index[bones[b].name] = static_cast<int>(b);
+  std::vector<int> column;
+  std::vector<bool> seen(bones.size(), false);
+  for (std::size_t c = 0; c < j["bones"].size(); ++c) {
+    const auto& n = j["bones"][c];
+    const std::string ptr = "/bones/" + std::to_string(c);
+    if (!n.is_string() || !index.count(n.get<std::string>())) fail(ptr, "not a bone of the skeleton");
+    const int b = index[n.get<std::string>()];
+    if (seen[b]) fail(ptr, "bone named twice");
+    seen[b] = true;
+    column.push_back(b);
+  }
+  for (std::size_t b = 0; b < bones.size(); ++b)
+    if (!seen[b]) fail("/bones", "does not name bone '" + bones[b].name + "'");
+  const Eigen::Index n = s.mesh.V.rows();
+  if (static_cast<Eigen::Index>(j["weights"].size()) != n)
+    fail("/weights", std::to_string(j["weights"].size()) + " rows for a mesh of " + std::to_string(n) + " vertices");
+  Eigen::MatrixXd W(n, bones.size());
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto& row = j["weights"][i];
+    const std::string ptr = "/weights/" + std::to_string(i);
+    if (!row.is_array() || row.size() != column.size()) fail(ptr, "expected " + std::to_string(column.size()) + " numbers");
+    for (std::size_t c = 0; c < column.size(); ++c) {
+      if (!row[c].is_number() || row[c].get<double>() < 0.0) fail(ptr + "/" + std::to_string(c), "expected a number ≥ 0");
+      W(i, column[c]) = row[c].get<double>();
+    }
+    if (!(W.row(i).sum() > 0.0)) fail(ptr, "vertex " + std::to_string(i) + " has no positive weight");
+  }
+  return W;
+}
+
+}  // namespace
+
+std::unique_ptr<SceneDeformer> bind_skin(const Scene& s) {
+  if (!s.doc.contains("skeleton")) throw s.error("/skeleton", "the skin deformer needs a skeleton");
+  const nlohmann::json& jb = s.doc["skeleton"]["bones"];
+  std::vector<Bone> bones;
+  std::map<std::string, int> index;
+  for (std::size_t j = 0; j < jb.size(); ++j) {
+    Bone b;
+    b.name = jb[j]["name"].get<std::string>();
+    const auto h = jb[j]["head"].get<std::vector<double>>(), t = jb[j]["tail"].get<std::vector<double>>();
+    b.head = {h[0], h[1], h[2]};
+    b.tail = {t[0], t[1], t[2]};
+    if (!index.emplace(b.name, static_cast<int>(j)).second)
+      throw s.error("/skeleton/bones/" + std::to_string(j) + "/name", "bone '" + b.name + "' is named twice");
+    bones.push_back(b);
+  }
+  for (std::size_t j = 0; j < jb.size(); ++j)
+    if (jb[j].contains("parent") && !jb[j]["parent"].is_null()) {
+      const std::string p = jb[j]["parent"].get<std::string>();
+      if (!index.count(p)) throw s.error("/skeleton/bones/" + std::to_string(j) + "/parent", "no bone named '" + p + "'");
+      bones[j].parent = index[p];
+    }
+  try {
+    check_skeleton(bones);
+  } catch (const Error& e) {
+    throw s.error("/skeleton", e.what());
+  }
+  const nlohmann::json& b = s.deformer;
+  SkinDeformer::Options o;
+  const std::string blend = b.value("blend", "dlb");
+  o.blend = blend == "lbs"         ? SkinDeformer::Blend::LBS
+            : blend == "log"       ? SkinDeformer::Blend::Log
+            : blend == "pivot-log" ? SkinDeformer::Blend::PivotLog
+                                   : SkinDeformer::Blend::Linear;
+  const std::string weights = b.value("weights", "harmonic");
+  Eigen::MatrixXd W;
+  try {
+    if (weights == "harmonic") {
+      W = bone_harmonic_weights(s.mesh, bones, b.value("joint_fraction", 0.25));
+    } else {
+      const std::filesystem::path path = s.dir / weights;
+      W = path.extension() == ".json" ? read_json_weights(s, path, bones)
+                                      : read_skin_weights(path, bones, s.mesh.V.rows());
+    }
+    return std::make_unique<SkinScene>(s, bones, SkinDeformer::bind(s.mesh, bones, W, o));
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    if (msg.rfind(s.name() + ":", 0) == 0) throw;
+    throw Error(s.name() + ": /deformer/weights: " + msg, e.kind());
+  }
+}
+
+}  // namespace spinmotor::scene

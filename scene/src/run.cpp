@@ -1,0 +1,240 @@
+#include "spinmotor/scene/run.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <optional>
+#include <set>
+
+#include "spinmotor/core/error.hpp"
+#include "spinmotor/core/atomic_file.hpp"
+#include "spinmotor/mesh/io.hpp"
+#include "spinmotor/mesh/metrics.hpp"
+#include "spinmotor/mesh/metrics/json.hpp"
+#include "spinmotor/scene/deformer_registry.hpp"
+#include "spinmotor/spin/conformal_snap.hpp"
+#include "spinmotor/spin/curvature_spin_flow.hpp"
+
+namespace spinmotor::scene {
+
+using nlohmann::json;
+
+RunResult run_scene(const Scene& scene, const RunProgress& progress) {
+  using clock = std::chrono::steady_clock;
+  RunResult r;
+  if (scene.ik && scene.deformer_type != "spline")
+    throw scene.error("/ik", "the `ik` block drives the spline deformer; this scene's deformer is '" +
+                                 scene.deformer_type + "'");
+  const auto t0 = clock::now();
+  std::unique_ptr<SceneDeformer> d = bind_deformer(scene);
+  r.bind_ms = std::chrono::duration<double, std::milli>(clock::now() - t0).count();
+  auto seconds = [&] { return std::chrono::duration<double>(clock::now() - t0).count(); };
+
+  // Every pose entry must name a control of this deformer.
+  const std::vector<std::string> controls = d->controls();
+  const std::set<std::string> known(controls.begin(), controls.end());
+  for (const Pose& p : scene.frames)
+    for (const auto& [name, _] : p.motors)
+      if (!known.count(name)) {
+        std::string list;
+        for (const auto& c : controls) list += (list.empty() ? "'" : ", '") + c + "'";
+        throw scene.error(p.entry_path(name), "no handle or control named '" + name + "' (" +
+                                                  (list.empty() ? std::string("this deformer takes no pose entries")
+                                                                : "this deformer's controls: " + list) +
+                                                  ")");
+      }
+
+  const json bind_extra = d->bind_report();
+  // Conformal snap (Crane et al. 2011 §7.2): bound once on the rest mesh (Laplacian factor, symbolic
+  // analysis), then one snap per frame.
+  // Shape mode (Le Folgoc 2019 extrusion toward the edit's curvature) binds nothing: each frame runs
+  // its own extrusion from the rest mesh.
+  std::optional<ConformalSnap> snapper;
+  if (scene.snap.enabled && !scene.snap.shape) {
+    try {
+      snapper.emplace(scene.mesh, ConformalSnapOptions{.tradeoff = scene.snap.tradeoff,
+                                                       .rho_smoothing = scene.snap.smooth_rho});
+    } catch (const Error& e) {
+      throw Error(scene.name() + ": /snap: " + e.what(), e.kind());
+    }
+  }
+  if (progress) progress(0, scene.frames.size(), seconds());
+  for (std::size_t f = 0; f < scene.frames.size(); ++f) {
+    FrameResult fr;
+    const auto t1 = clock::now();
+    d->pose(scene.frames[f], fr.V);
+    fr.pose_ms = std::chrono::duration<double, std::milli>(clock::now() - t1).count();
+    DeformationMetrics m;
+    try {
+      m = compute_metrics(scene.mesh, fr.V);
+    } catch (const Error& e) {
+      throw Error(scene.name() + ": metrics: " + e.what(), e.kind());
+    }
+    json j = {{"scene", scene.file.string()},
+              {"mesh", scene.mesh_source},
+              {"deformer", scene.deformer_type},
+              {"vertices", scene.mesh.V.rows()},
+              {"faces", scene.mesh.F.rows()},
+              {"bind_ms", r.bind_ms},
+              {"pose_ms", fr.pose_ms},
+              {"q_mean", detail::finite_or_null(m.q_mean)},
+              {"q_max", detail::finite_or_null(m.q_max)},
+              {"area_distortion", detail::finite_or_null(m.area_distortion)}};
+    if (scene.animated) j["frame"] = f;
+    const json extra = d->report(scene.frames[f], fr.V);  // named: items() of a temporary would dangle
+    for (const auto& [k, v] : extra.items()) j[k] = v;
+    for (const auto& [k, v] : bind_extra.items()) j[k] = v;
+    j["metrics"] = to_json(m);
+    if (scene.snap.enabled && scene.snap.shape) {
+      const auto t2 = clock::now();
+      CurvatureFlow flow;
+      DeformationMetrics ms;
+      Eigen::MatrixXd V_snap;
+      try {
+        CurvatureSpinOptions co;
+        co.alpha = 0.05;  // the extrusion default (curvature_spin_flow.hpp)
+        co.area_epsilon = scene.snap.area_constraint;
+        flow = curvature_extrusion(scene.mesh.V, scene.mesh.F, fr.V, scene.snap.steps, co);
+        V_snap = umeyama_fit(flow.V, fr.V).apply(flow.V);
+        ms = compute_metrics(scene.mesh, V_snap);
+      } catch (const Error& e) {
+        throw Error(scene.name() + ": snap (shape mode): " + e.what(), e.kind());
+      }
+      const VertexDistances dist = vertex_distances(fr.V, V_snap, Alignment::None);
+      j["snap"] = {{"mode", "shape"},
+                   {"steps", scene.snap.steps},
+                   {"area_constraint", scene.snap.area_constraint},
+                   {"q_mean", detail::finite_or_null(ms.q_mean)},
+                   {"q_max", detail::finite_or_null(ms.q_max)},
+                   {"area_distortion", detail::finite_or_null(ms.area_distortion)},
+                   {"rms_edit_to_snap", dist.rms},
+                   {"max_edit_to_snap", dist.max},
+                   {"closure", flow.closure},
+                   {"total_ms", std::chrono::duration<double, std::milli>(clock::now() - t2).count()},
+                   {"metrics", to_json(ms)}};
+      fr.V_unsnapped = std::move(fr.V);
+      fr.V = std::move(V_snap);
+    }
+    if (snapper) {
+      ConformalSnapResult sr;
+      DeformationMetrics ms;
+      try {
+        sr = snapper->snap(fr.V);
+        ms = compute_metrics(scene.mesh, sr.V);
+      } catch (const Error& e) {
+        throw Error(scene.name() + ": snap: " + e.what(), e.kind());
+      }
+      const VertexDistances dist = vertex_distances(fr.V, sr.V, Alignment::None);
+      const bool first = f == 0;  // the bind is paid by the first frame
+      j["snap"] = {{"mode", "spin"},
+                   {"tradeoff", scene.snap.tradeoff},
+                   {"smooth_rho", scene.snap.smooth_rho},
+                   {"q_mean", detail::finite_or_null(ms.q_mean)},
+                   {"q_max", detail::finite_or_null(ms.q_max)},
+                   {"area_distortion", detail::finite_or_null(ms.area_distortion)},
+                   {"rms_edit_to_snap", dist.rms},  // relative to the edit's bounding-box diagonal
+                   {"max_edit_to_snap", dist.max},
+                   {"eigenvalue", sr.eigenvalue},
+                   {"bind_ms", (first ? snapper->bind_ms() : 0.0) + sr.timings.bind},
+                   {"similarity_fit_ms", sr.timings.similarity_fit},
+                   {"eigen_ms", sr.timings.eigen},
+                   {"poisson_ms", sr.timings.poisson},
+                   {"total_ms", (first ? snapper->bind_ms() : 0.0) + sr.timings.total()},
+                   {"metrics", to_json(ms)}};
+      fr.V_unsnapped = std::move(fr.V);
+      fr.V = std::move(sr.V);
+    }
+    fr.metrics = std::move(j);
+    r.frames.push_back(std::move(fr));
+    if (progress) progress(f + 1, scene.frames.size(), seconds());
+  }
+  return r;
+}
+
+std::filesystem::path output_path(const Scene& scene, const std::filesystem::path& spec, int frame,
+                                  const std::optional<std::filesystem::path>& out_dir) {
+  std::filesystem::path p = spec;
+  if (scene.animated) {
+    char num[16];
+    std::snprintf(num, sizeof num, ".%04d", frame);
+    p.replace_filename(spec.stem().string() + num + spec.extension().string());
+  }
+  if (p.is_relative()) p = (out_dir ? *out_dir : scene.dir) / p;
+  return p;
+}
+
+namespace {
+
+/// Blue (Q = 1) → yellow → red (Q ≥ 2), interpolated on log2 Q.
+std::array<std::uint8_t, 3> q_colour(double q) {
+  const double t = std::isfinite(q) ? std::clamp(std::log2(std::max(q, 1.0)), 0.0, 1.0) : 1.0;
+  const double c[3][3] = {{49, 54, 149}, {255, 255, 191}, {165, 0, 38}};
+  const int k = t < 0.5 ? 0 : 1;
+  const double s = t < 0.5 ? 2 * t : 2 * t - 1;
+  std::array<std::uint8_t, 3> rgb;
+  for (int i = 0; i < 3; ++i) rgb[i] = static_cast<std::uint8_t>(std::lround(c[k][i] + s * (c[k + 1][i] - c[k][i])));
+  return rgb;
+}
+
+template <class T>
+void put(std::ostream& o, T v) {
+  o.write(reinterpret_cast<const char*>(&v), sizeof v);  // little-endian hosts (x86-64, aarch64)
+}
+
+}  // namespace
+
+void write_q_colors_ply(const std::filesystem::path& path, const Mesh& rest, const Eigen::MatrixXd& V) {
+  const Eigen::VectorXd Q = quasi_conformal_error(rest.V, rest.F, V);
+  AtomicFile out(path);
+  std::ostream& o = out.stream();
+  o << "ply\nformat binary_little_endian 1.0\ncomment spinmotor: per-face quasi-conformal error Q (blue 1, red >= 2)\n"
+    << "element vertex " << V.rows() << "\nproperty double x\nproperty double y\nproperty double z\n"
+    << "element face " << rest.F.rows() << "\nproperty list uchar int vertex_indices\n"
+    << "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty double quality\nend_header\n";
+  for (Eigen::Index i = 0; i < V.rows(); ++i)
+    for (int c = 0; c < 3; ++c) put(o, V(i, c));
+  for (Eigen::Index f = 0; f < rest.F.rows(); ++f) {
+    put<std::uint8_t>(o, 3);
+    for (int c = 0; c < 3; ++c) put<std::int32_t>(o, rest.F(f, c));
+    for (std::uint8_t v : q_colour(Q[f])) put(o, v);
+    put(o, std::isfinite(Q[f]) ? Q[f] : -1.0);
+  }
+  out.commit();
+}
+
+std::vector<std::filesystem::path> write_outputs(const Scene& scene, const RunResult& result,
+                                                 const std::optional<std::filesystem::path>& out_dir) {
+  std::vector<std::filesystem::path> written;
+  try {
+    for (std::size_t f = 0; f < result.frames.size(); ++f) {
+      const FrameResult& fr = result.frames[f];
+      const int fi = static_cast<int>(f);
+      if (scene.output.mesh) {
+        Mesh m = scene.mesh;  // keeps F, UV, FUV: only the positions change
+        m.V = fr.V;
+        const auto p = output_path(scene, *scene.output.mesh, fi, out_dir);
+        write_mesh(p, m);
+        written.push_back(p);
+      }
+      if (scene.output.metrics) {
+        const auto p = output_path(scene, *scene.output.metrics, fi, out_dir);
+        write_text_atomic(p, fr.metrics.dump(2) + "\n");
+        written.push_back(p);
+      }
+      if (scene.output.colors) {
+        const auto p = output_path(scene, *scene.output.colors, fi, out_dir);
+        write_q_colors_ply(p, scene.mesh, fr.V);
+        written.push_back(p);
+      }
+    }
+  } catch (...) {
+    std::error_code ec;
+    for (const auto& p : written) std::filesystem::remove(p, ec);
+    throw;
+  }
+  return written;
+}
+
+}  // namespace spinmotor::scene

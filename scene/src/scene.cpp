@@ -1,0 +1,357 @@
+#include "spinmotor/scene/scene.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "spinmotor/core/error.hpp"
+#include "spinmotor/mesh/generators.hpp"
+#include "spinmotor/mesh/io.hpp"
+#include "spinmotor/mesh/validate.hpp"
+#include "spinmotor/scene/json_schema.hpp"
+
+namespace spinmotor::scene {
+
+using nlohmann::json;
+
+const json& scene_schema() {
+  static const json s = json::parse(scene_schema_text());
+  return s;
+}
+
+namespace {
+
+const JsonSchema& validator() {
+  static const JsonSchema v(scene_schema());
+  return v;
+}
+
+Eigen::Vector3d vec3(const json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
+
+template <class T>
+T value_or(const json& obj, const char* key, T fallback) {
+  const auto it = obj.find(key);
+  return it == obj.end() ? fallback : it->get<T>();
+}
+
+std::string join(const std::vector<std::string>& names) {
+  std::string s;
+  for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+}  // namespace
+
+// ---- Pose / Scene helpers ----------------------------------------------------------------------------
+
+ga::Mot Pose::motor(const std::string& name) const {
+  const auto it = motors.find(name);
+  return it == motors.end() ? ga::Mot(1, 0, 0, 0, 0, 0, 0, 0) : it->second;
+}
+
+std::string Pose::entry_path(const std::string& name) const { return path + "/" + pointer_token(name); }
+
+std::string Scene::name() const { return file.empty() ? std::string("scene") : file.filename().string(); }
+
+Error Scene::error(const std::string& pointer, const std::string& message) const {
+  return Error(name() + ": " + display_path(pointer) + ": " + message);
+}
+
+int Scene::handle_index(const std::string& n) const {
+  for (std::size_t i = 0; i < handles.size(); ++i)
+    if (handles[i].name == n) return static_cast<int>(i);
+  return -1;
+}
+
+const Handle& Scene::handle(const std::string& n, const std::string& pointer) const {
+  const int i = handle_index(n);
+  if (i < 0) {
+    std::vector<std::string> names;
+    for (const auto& h : handles) names.push_back("'" + h.name + "'");
+    throw error(pointer, "no handle named '" + n + "'" +
+                             (names.empty() ? std::string(" (the scene has no handles)") : " (handles: " + join(names) + ")"));
+  }
+  return handles[i];
+}
+
+// ---- motors --------------------------------------------------------------------------------------------
+
+ga::Mot parse_motor(const json& j, const std::string& pointer, const std::string& scene_name) {
+  auto fail = [&](const std::string& sub, const std::string& msg) {
+    return Error(scene_name + ": " + pointer + sub + ": " + msg);
+  };
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  if (auto it = j.find("translate"); it != j.end()) t = vec3(*it);
+  if (auto it = j.find("matrix"); it != j.end()) {
+    Eigen::Matrix4d m;
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) m(r, c) = (*it)[4 * r + c].get<double>();
+    if (!m.allFinite()) throw fail("/matrix", "not finite");
+    if ((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-9)
+      throw fail("/matrix", "not a rigid motion: the last row must be 0 0 0 1");
+    Eigen::Isometry3d iso = Eigen::Isometry3d::Identity();
+    iso.linear() = m.topLeftCorner<3, 3>();
+    iso.translation() = m.topRightCorner<3, 1>();
+    try {
+      return ga::from_isometry(iso);
+    } catch (const std::invalid_argument& e) {
+      throw fail("/matrix", std::string("not a rigid motion (") + e.what() + ")");
+    }
+  }
+  if (auto it = j.find("quaternion"); it != j.end()) {
+    Eigen::Vector4d q((*it)[0].get<double>(), (*it)[1].get<double>(), (*it)[2].get<double>(), (*it)[3].get<double>());
+    const double n = q.norm();
+    if (!(n > 0.0) || !std::isfinite(n)) throw fail("/quaternion", "must be a non-zero finite quaternion [w, x, y, z]");
+    q /= n;
+    return ga::motor(ga::Rot(q[0], q[1], q[2], q[3]), ga::translator(t));
+  }
+  ga::Rot r(1, 0, 0, 0);
+  Eigen::Vector3d about = Eigen::Vector3d::Zero();
+  if (auto it = j.find("rotate"); it != j.end()) {
+    const Eigen::Vector3d axis = vec3((*it)["axis"]);
+    const double degrees = (*it)["degrees"].get<double>();
+    if (!(axis.norm() > 0.0) || !axis.allFinite()) throw fail("/rotate/axis", "must be a non-zero finite vector");
+    if (!std::isfinite(degrees)) throw fail("/rotate/degrees", "not finite");
+    r = ga::rotor(axis, degrees * M_PI / 180.0);
+    if (auto a = it->find("about"); a != it->end()) about = vec3(*a);
+  }
+  if (!t.allFinite() || !about.allFinite()) throw fail("", "not finite");
+  // Rotate about `about`, then translate: x ↦ R (x − a) + a + t.
+  return ga::motor(r, ga::translator(about + t - ga::rotate(r, about)));
+}
+
+// ---- loading ---------------------------------------------------------------------------------------------
+
+namespace {
+
+Mesh make_mesh(const Scene& s, const json& m) {
+  if (m.is_string()) {
+    std::filesystem::path p = m.get<std::string>();
+    if (p.is_relative()) p = s.dir / p;
+    try {
+      return read_mesh(p);
+    } catch (const Error& e) {
+      throw s.error("/mesh", e.what());
+    }
+  }
+  const std::string g = m["generate"].get<std::string>();
+  try {
+    if (g == "icosphere") return icosphere(value_or(m, "level", 4), value_or(m, "radius", 1.0));
+    if (g == "uv-sphere")
+      return uv_sphere(value_or(m, "rings", 64), value_or(m, "sectors", 128), value_or(m, "radius", 1.0));
+    if (g == "tube")
+      return tube(value_or(m, "radius", 1.0), value_or(m, "length", 10.0), value_or(m, "rings", 200),
+                  value_or(m, "sides", 64), value_or(m, "capped", false));
+    if (g == "torus") {
+      const double R = value_or(m, "R", 2.0), r = value_or(m, "r", 1.0);
+      if (!(r < R)) throw s.error("/mesh/r", "the torus needs r < R");
+      return torus(R, r, value_or(m, "u", 128), value_or(m, "v", 64));
+    }
+    if (g == "grid") {
+      Eigen::Vector2d size(2, 2);
+      Eigen::Vector2i n(100, 100);
+      if (m.contains("size")) size << m["size"][0].get<double>(), m["size"][1].get<double>();
+      if (m.contains("n")) n << m["n"][0].get<int>(), m["n"][1].get<int>();
+      return grid(size, n);
+    }
+    if (g == "cross-bar")
+      return cross_bar(value_or(m, "length", 4.0), value_or(m, "half_span", 0.5), value_or(m, "width", 0.25),
+                       value_or(m, "segments", 64));
+    if (g == "capsule")
+      return capsule(value_or(m, "radius", 1.0), value_or(m, "length", 2.0), value_or(m, "rings", 64),
+                     value_or(m, "sides", 64));
+  } catch (const Error& e) {
+    if (std::string(e.what()).rfind(s.name(), 0) == 0) throw;
+    throw s.error("/mesh", e.what());
+  }
+  throw s.error("/mesh/generate", "unknown generator '" + g + "'");
+}
+
+Handle select_handle(const Scene& s, const json& h, const std::string& at) {
+  const Eigen::MatrixXd& V = s.mesh.V;
+  const Eigen::Index n = V.rows();
+  const json& sel = h["select"];
+  const std::string name = h["name"].get<std::string>();
+  std::vector<int> v;
+  if (auto it = sel.find("vertices"); it != sel.end()) {
+    for (std::size_t k = 0; k < it->size(); ++k) {
+      const long long i = (*it)[k].get<long long>();
+      if (i >= n)
+        throw s.error(at + "/select/vertices/" + std::to_string(k),
+                      "vertex " + std::to_string(i) + " is out of range (the mesh has " + std::to_string(n) + " vertices)");
+      v.push_back(static_cast<int>(i));
+    }
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+  } else if (auto it = sel.find("box"); it != sel.end()) {
+    const Eigen::Vector3d lo = vec3((*it)["min"]), hi = vec3((*it)["max"]);
+    for (Eigen::Index i = 0; i < n; ++i)
+      if ((V.row(i).transpose().array() >= lo.array()).all() && (V.row(i).transpose().array() <= hi.array()).all())
+        v.push_back(static_cast<int>(i));
+  } else if (auto it = sel.find("sphere"); it != sel.end()) {
+    const Eigen::Vector3d c = vec3((*it)["center"]);
+    const double r = (*it)["radius"].get<double>();
+    for (Eigen::Index i = 0; i < n; ++i)
+      if ((V.row(i).transpose() - c).norm() <= r) v.push_back(static_cast<int>(i));
+  } else if (auto it = sel.find("plane"); it != sel.end()) {
+    const Eigen::Vector3d p = vec3((*it)["point"]), nn = vec3((*it)["normal"]);
+    if (!(nn.norm() > 0.0)) throw s.error(at + "/select/plane/normal", "must be a non-zero vector");
+    for (Eigen::Index i = 0; i < n; ++i)
+      if ((V.row(i).transpose() - p).dot(nn) >= 0.0) v.push_back(static_cast<int>(i));  // the side n points to
+  } else {  // all
+    v.resize(n);
+    for (Eigen::Index i = 0; i < n; ++i) v[i] = static_cast<int>(i);
+  }
+  if (v.empty()) throw s.error(at + "/select", "handle '" + name + "' selects no vertex");
+  return Handle{name, Eigen::Map<Eigen::VectorXi>(v.data(), static_cast<Eigen::Index>(v.size()))};
+}
+
+Pose make_pose(const Scene& s, const json& p, const std::string& at) {
+  Pose pose;
+  pose.path = at;
+  for (const auto& [name, m] : p.items()) pose.motors[name] = parse_motor(m, pose.entry_path(name), s.name());
+  return pose;
+}
+
+}  // namespace
+
+Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::string& name) {
+  Scene s;
+  s.dir = dir;
+  s.file = name;  // name() prints its filename
+  const std::vector<SchemaError> errors = validator().validate(doc);
+  if (!errors.empty()) {
+    std::string msg = display_path(errors[0].path) + ": " + errors[0].message;
+    for (std::size_t i = 1; i < std::min<std::size_t>(errors.size(), 5); ++i)
+      msg += "\n  " + display_path(errors[i].path) + ": " + errors[i].message;
+    if (errors.size() > 5) msg += "\n  (" + std::to_string(errors.size() - 5) + " more)";
+    throw Error(s.name() + ": " + msg);
+  }
+  s.doc = doc;
+
+  // Mesh.
+  s.mesh = make_mesh(s, doc["mesh"]);
+  s.mesh_source = doc["mesh"].is_string() ? doc["mesh"].get<std::string>() : doc["mesh"]["generate"].get<std::string>();
+  try {
+    require(s.mesh, {.finite = true}, "deform");
+  } catch (const Error& e) {
+    throw s.error("/mesh", e.what());
+  }
+
+  // Handles: non-empty, unique names, disjoint.
+  if (auto it = doc.find("handles"); it != doc.end()) {
+    std::vector<int> owner(static_cast<std::size_t>(s.mesh.V.rows()), -1);
+    for (std::size_t h = 0; h < it->size(); ++h) {
+      const std::string at = "/handles/" + std::to_string(h);
+      Handle handle = select_handle(s, (*it)[h], at);
+      if (s.handle_index(handle.name) >= 0)
+        throw s.error(at + "/name", "duplicate handle name '" + handle.name + "'");
+      for (Eigen::Index k = 0; k < handle.vertices.size(); ++k) {
+        const int v = handle.vertices[k];
+        if (owner[v] >= 0)
+          throw s.error(at, "handle '" + handle.name + "' shares vertex " + std::to_string(v) + " with handle '" +
+                                s.handles[owner[v]].name + "' (/handles/" + std::to_string(owner[v]) + ")");
+        owner[v] = static_cast<int>(h);
+      }
+      s.handles.push_back(std::move(handle));
+    }
+  }
+
+  // Deformer block (its keys are read by the deformer type at bind).
+  s.deformer = doc["deformer"];
+  s.deformer_type = s.deformer["type"].get<std::string>();
+
+  // Poses.
+  if (doc.contains("pose") && doc.contains("frames"))
+    throw s.error("/frames", "give either `pose` or `frames`, not both");
+  if (auto it = doc.find("frames"); it != doc.end()) {
+    s.animated = true;
+    for (std::size_t f = 0; f < it->size(); ++f) s.frames.push_back(make_pose(s, (*it)[f], "/frames/" + std::to_string(f)));
+  } else if (auto p = doc.find("pose"); p != doc.end()) {
+    s.frames.push_back(make_pose(s, *p, "/pose"));
+  } else {
+    s.frames.push_back(Pose{{}, "/pose"});
+  }
+
+  // IK.
+  if (auto it = doc.find("ik"); it != doc.end()) {
+    IkSpec ik;
+    const json& c = (*it)["chain"];
+    ik.chain.resize(static_cast<Eigen::Index>(c.size()), 3);
+    for (std::size_t i = 0; i < c.size(); ++i) ik.chain.row(static_cast<Eigen::Index>(i)) = vec3(c[i]).transpose();
+    for (Eigen::Index i = 0; i + 1 < ik.chain.rows(); ++i)
+      if (!((ik.chain.row(i + 1) - ik.chain.row(i)).norm() > 0.0))
+        throw s.error("/ik/chain/" + std::to_string(i + 1), "joint coincides with the previous joint (zero-length bone)");
+    ik.target = vec3((*it)["target"]);
+    ik.tolerance = value_or(*it, "tolerance", 1e-4);
+    ik.iterations = value_or(*it, "iterations", 50);
+    if (auto o = it->find("orientation"); o != it->end()) {
+      if (o->contains("quaternion")) {
+        const json& q = (*o)["quaternion"];
+        Eigen::Vector4d v(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>());
+        if (!(v.norm() > 0.0)) throw s.error("/ik/orientation/quaternion", "must be non-zero");
+        v.normalize();
+        ik.orientation = ga::Rot(v[0], v[1], v[2], v[3]);
+      } else {
+        const Eigen::Vector3d axis = vec3((*o)["axis"]);
+        if (!(axis.norm() > 0.0)) throw s.error("/ik/orientation/axis", "must be a non-zero vector");
+        ik.orientation = ga::rotor(axis, (*o)["degrees"].get<double>() * M_PI / 180.0);
+      }
+    }
+    s.ik = ik;
+  }
+
+  // Snap: the presence of the block asks for it unless "enabled": false.
+  if (auto it = doc.find("snap"); it != doc.end()) {
+    s.snap.enabled = value_or(*it, "enabled", true);
+    s.snap.tradeoff = value_or(*it, "tradeoff", 1.0);
+    s.snap.shape = value_or(*it, "mode", std::string("spin")) == "shape";
+    s.snap.smooth_rho = value_or(*it, "smooth_rho", 0);
+    s.snap.steps = value_or(*it, "steps", 4);
+    s.snap.area_constraint = value_or(*it, "area_constraint", 0.0);
+    if (s.snap.shape && (it->contains("tradeoff") || it->contains("smooth_rho")))
+      throw s.error("/snap", "`tradeoff` and `smooth_rho` belong to mode \"spin\"; mode \"shape\" takes `steps` and "
+                             "`area_constraint`");
+    if (!s.snap.shape && (it->contains("steps") || it->contains("area_constraint")))
+      throw s.error("/snap", "`steps` and `area_constraint` belong to mode \"shape\"");
+  }
+
+  // Outputs.
+  if (auto it = doc.find("output"); it != doc.end()) {
+    if (it->contains("mesh")) {
+      s.output.mesh = (*it)["mesh"].get<std::string>();
+      try {
+        mesh_format(*s.output.mesh);
+      } catch (const Error& e) {
+        throw s.error("/output/mesh", e.what());
+      }
+    }
+    if (it->contains("metrics")) s.output.metrics = (*it)["metrics"].get<std::string>();
+    if (it->contains("colors")) {
+      s.output.colors = (*it)["colors"].get<std::string>();
+      if (s.output.colors->extension() != ".ply") throw s.error("/output/colors", "the colour output is a .ply file");
+    }
+  }
+  return s;
+}
+
+Scene load_scene(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw Error("cannot read scene file " + file.string());
+  std::stringstream text;
+  text << in.rdbuf();
+  json doc;
+  try {
+    doc = json::parse(text.str());
+  } catch (const json::parse_error& e) {
+    throw Error(file.filename().string() + ": invalid JSON: " + e.what());
+  }
+  const std::filesystem::path abs = std::filesystem::absolute(file);
+  Scene s = parse_scene(doc, abs.parent_path(), abs.filename().string());
+  s.file = abs;
+  return s;
+}
+
+}  // namespace spinmotor::scene
