@@ -67,7 +67,7 @@ void BM_ffd_pose(benchmark::State& state) {
   po.mode = FfdDeformer::Mode::Position;
   FfdDeformer baseline = FfdDeformer::bind(m, po);
   std::mt19937 rng(1);
-  std::vector<ga::Mot> M(d.controls());
+  std::vector<ga::Mot> M(d.controls().size());
   for (auto& x : M) x = random_motor(rng, 30, 0.2);
   Eigen::MatrixXd V, Vb;
   d.pose(M, V);
@@ -81,7 +81,7 @@ void BM_ffd_pose(benchmark::State& state) {
     total += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   }
   state.counters["vertices"] = static_cast<double>(m.V.rows());
-  state.counters["controls"] = static_cast<double>(d.controls());
+  state.counters["controls"] = static_cast<double>(d.controls().size());
   state.counters["position_ms"] = base_ms;
   state.counters["vs_position"] = total / state.iterations() / base_ms;
   state.SetLabel(std::string(bspline ? "8x8x8 bspline " : "4x4x4 bezier ") +

@@ -21,9 +21,7 @@
 #include <filesystem>
 #include <numbers>
 
-#include "spinmotor/deform/chain_fit.hpp"
-#include "spinmotor/deform/fabrik.hpp"
-#include "spinmotor/deform/spline_deformer.hpp"
+#include "spinmotor/deform/spline_ik.hpp"
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/core/atomic_file.hpp"
 #include "spinmotor/mesh/generators.hpp"
@@ -36,23 +34,6 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 constexpr double kRadius = 0.25, kLength = 4.0;
-
-/// Cubic B-spline with 5 key motors (one per joint of the 5-joint chain).
-SplineDeformer::Options spline_options() {
-  SplineDeformer::Options o;
-  o.basis = SplineBasis::BSpline;
-  o.degree = 3;
-  o.keys = 5;
-  return o;
-}
-
-FabrikOptions fabrik_options() {
-  FabrikOptions o;
-  o.tolerance = 1e-6;
-  o.max_iterations = 100;
-  return o;
-}
-
 
 /// The vertices of a ring of the tube at height z (the generator places rings at exact heights).
 Handle ring(const Mesh& m, double z, const std::string& name) {
@@ -94,28 +75,27 @@ int run(int argc, char** argv) {
   Eigen::MatrixXd rest_chain(5, 3);
   for (int i = 0; i < 5; ++i) rest_chain.row(i) << 0.0, 0.0, kLength * i / 4.0;
   const auto t_bind = Clock::now();
-  SplineDeformer deformer = SplineDeformer::bind(tube, ends, spline_options());
+  Rig rig{.handles = {ends[0], ends[1]}};
+  const Eigen::Vector3d rest_target = rest_chain.row(4).transpose();
+  rig.ik = IkChain{.chain = rest_chain, .target = rest_target, .tolerance = 1e-6, .iterations = 100};
+  SplineIkDeformer deformer = SplineIkDeformer::bind(tube, rig, {.controls = 5, .degree = 3, .warm_start = true});
   const double bind_ms = ms_since(t_bind);
 
   // ---- pose: one target per frame ----------------------------------------------------------------
   std::filesystem::create_directories(out);
   Mesh posed = tube;
-  Eigen::MatrixXd chain = rest_chain;
   nlohmann::json per_frame = nlohmann::json::array();
   double worst_tip = 0, worst_bone = 0, worst_ring = 0, total_pose_ms = 0;
   for (int f = 0; f < frames; ++f) {
     const Eigen::Vector3d target = target_at(static_cast<double>(f) / frames);
+    const ga::Mot to_target = ga::from_isometry(Eigen::Isometry3d(Eigen::Translation3d(target - rest_target)));
     const auto t0 = Clock::now();
-    const FabrikResult ik = fabrik(chain, target, fabrik_options());
-    const double ik_ms = ms_since(t0);
-    const auto t1 = Clock::now();
-    const ChainFit fit = fit_chain(tube.V, deformer.parameter(), rest_chain, ik.joints, {.controls = 5, .degree = 3});
-    const double fit_ms = ms_since(t1);
-    const auto t2 = Clock::now();
-    deformer.pose_generators(fit.fit.generators, posed.V);
-    const double pose_ms = ms_since(t2);
-    chain = ik.joints;
-    total_pose_ms += ik_ms + fit_ms + pose_ms;
+    deformer.pose(std::span(&to_target, 1), posed.V);
+    const double frame_ms = ms_since(t0);
+    const FabrikResult& ik = deformer.fabrik_result();
+    const Eigen::MatrixXd& chain = ik.joints;
+    const double ik_ms = deformer.fabrik_ms(), fit_ms = deformer.fit_ms(), pose_ms = frame_ms - ik_ms - fit_ms;
+    total_pose_ms += frame_ms;
 
     // figures: the tip ring's centre on the target, bones of length 1, the tip ring still round
     const Eigen::Vector3d tip = centroid(posed.V, ends[1]);

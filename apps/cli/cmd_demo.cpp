@@ -21,7 +21,7 @@
 #include "spinmotor/mesh/metrics/json.hpp"
 #include "spinmotor/mesh/validate.hpp"
 #include "spinmotor/deform/chain_fit.hpp"
-#include "spinmotor/deform/fabrik.hpp"
+#include "spinmotor/deform/spline_ik.hpp"
 #include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/deform/spline_deformer.hpp"
 #include "spinmotor/deform/surface_harmonic.hpp"
@@ -34,23 +34,6 @@
 
 namespace spinmotor::cli {
 namespace {
-
-/// Cubic B-spline with 5 key motors (one per joint of the 5-joint chain).
-SplineDeformer::Options spline_options() {
-  SplineDeformer::Options o;
-  o.basis = SplineBasis::BSpline;
-  o.degree = 3;
-  o.keys = 5;
-  return o;
-}
-
-FabrikOptions fabrik_options() {
-  FabrikOptions o;
-  o.tolerance = 1e-6;
-  o.max_iterations = 100;
-  return o;
-}
-
 
 struct Demo {
   std::filesystem::path out_dir;
@@ -202,13 +185,15 @@ void run_demo(Demo& d) {
   for (int i = 0; i < 5; ++i) chain.row(i) << 0.0, 0.0, i;
   const Eigen::Vector3d target(1.5, 0.5, 3.0);
   t0 = std::chrono::steady_clock::now();
-  SplineDeformer spline = SplineDeformer::bind(tube_mesh, ends, spline_options());
+  // The rest target is the tip joint; the pose's one motor carries it to `target` (FABRIK + fit + pose).
+  Rig ik_rig{.handles = {ends[0], ends[1]}};
+  ik_rig.ik = IkChain{.chain = chain, .target = chain.row(4).transpose(), .tolerance = 1e-6, .iterations = 100};
+  SplineIkDeformer spline = SplineIkDeformer::bind(tube_mesh, ik_rig, {.controls = 5, .degree = 3});
   const double spline_bind_ms = ms_since(t0);
   t0 = std::chrono::steady_clock::now();
-  const FabrikResult ik = fabrik(chain, target, fabrik_options());
-  const ChainFit fit = fit_chain(tube_mesh.V, spline.parameter(), chain, ik.joints, {.controls = 5, .degree = 3});
   Mesh bent = tube_mesh;
-  spline.pose_generators(fit.fit.generators, bent.V);
+  const ga::Mot to_target = ga::from_isometry(Eigen::Isometry3d(Eigen::Translation3d(target - chain.row(4).transpose())));
+  spline.pose(std::span(&to_target, 1), bent.V);
   const double ik_pose_ms = ms_since(t0);
   Eigen::Vector3d tip_centre = Eigen::Vector3d::Zero();
   for (Eigen::Index k = 0; k < ends[1].vertices.size(); ++k) tip_centre += bent.V.row(ends[1].vertices[k]).transpose();

@@ -37,17 +37,6 @@ ga::Mot unit_motor(const ga::Mot& m, std::size_t j, const std::string& handle) {
 
 }  // namespace
 
-const char* to_string(ArapEnergy e) { return e == ArapEnergy::Spokes ? "spokes" : "spokes-and-rims"; }
-
-const char* to_string(ArapInitial i) {
-  switch (i) {
-    case ArapInitial::Rest: return "rest";
-    case ArapInitial::Harmonic: return "harmonic";
-    case ArapInitial::Previous: return "previous";
-  }
-  return "rest";
-}
-
 ArapDeformer ArapDeformer::bind(const Mesh& rest, std::span<const Handle> handles) {
   return bind(rest, handles, Options{});
 }
@@ -206,6 +195,7 @@ ArapDeformer ArapDeformer::bind(const Mesh& rest, std::span<const Handle> handle
 }
 
 void ArapDeformer::bind_handles(std::span<const Handle> handles) {
+  controls_ = handle_controls(Eigen::MatrixXd(P_), handles);
   const int n = static_cast<int>(P_.rows());
   std::vector<int> handle_of(n, -1);
   std::vector<int> cons, cons_handle;

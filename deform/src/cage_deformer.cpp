@@ -24,12 +24,18 @@ CageDeformer CageDeformer::bind(const Mesh& rest, const Mesh& cage, const Option
   }
   d.bound_ = options.coordinates == Coordinates::Harmonic ? harmonic_interpolation_bound(cage.V, options.grid) : 0.0;
   if (options.mode == Mode::Motor) d.field_ = MotorBlendField::bind(rest.V, d.W_, options.blend);
+  for (Eigen::Index k = 0; k < d.C_.rows(); ++k) d.controls_.push_back({"cage[" + std::to_string(k) + "]", d.C_.row(k).transpose()});
   return d;
+}
+
+CageDeformer CageDeformer::bind(const Mesh& rest, const Rig& rig, const Options& options) {
+  if (!rig.cage) throw Error("CageDeformer: the rig has no cage");
+  return bind(rest, *rig.cage, options);
 }
 
 void CageDeformer::pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out) {
   if (options_.mode == Mode::Motor) return field_.pose(motors, V_out);  // M_i = blend(R; λ_i) (§VI)
-  const Eigen::Index k = controls();
+  const Eigen::Index k = C_.rows();
   if (static_cast<Eigen::Index>(motors.size()) != k)
     throw Error("CageDeformer: " + std::to_string(motors.size()) + " motors for " + std::to_string(k) + " cage vertices");
   if (moved_.rows() != k) moved_.resize(k, 3);
@@ -41,8 +47,8 @@ void CageDeformer::pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out)
 
 void CageDeformer::pose_points(const Eigen::MatrixXd& P, Eigen::MatrixXd& V_out) {
   if (options_.mode != Mode::Position) throw Error("CageDeformer::pose_points needs the position mode");
-  if (P.rows() != controls() || P.cols() != 3 || !P.allFinite())
-    throw Error("CageDeformer: cage points must be a finite " + std::to_string(controls()) + "×3 matrix");
+  if (P.rows() != C_.rows() || P.cols() != 3 || !P.allFinite())
+    throw Error("CageDeformer: cage points must be a finite " + std::to_string(C_.rows()) + "×3 matrix");
   if (V_out.rows() != vertices() || V_out.cols() != 3) V_out.resize(vertices(), 3);
   V_out.noalias() = W_ * P;  // p = Σ λ_j P_j
 }

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/deform/motor_blend_field.hpp"
 
 namespace spinmotor {
 
@@ -36,6 +37,26 @@ void check_handles(std::span<const Handle> handles, Eigen::Index n, const char* 
       owner[v] = static_cast<int>(h);
     }
   }
+}
+
+}  // namespace spinmotor
+
+namespace spinmotor {
+
+std::vector<Control> handle_controls(const Eigen::MatrixXd& V, std::span<const Handle> handles) {
+  std::vector<Control> c;
+  c.reserve(handles.size());
+  for (const Handle& h : handles) c.push_back({h.name, handle_centroid(V, h)});
+  return c;
+}
+
+void check_motors(std::span<const ga::Mot> motors, std::span<const Control> controls, const char* who) {
+  if (motors.size() != controls.size())
+    throw Error(std::string(who) + ": expected " + std::to_string(controls.size()) + " motors (one per control), got " +
+                std::to_string(motors.size()));
+  for (std::size_t j = 0; j < motors.size(); ++j)
+    (void)checked_unit_motor(motors[j], std::string(who) + ": motor " + std::to_string(j) + " (control '" +
+                                            controls[j].name + "')");
 }
 
 }  // namespace spinmotor

@@ -151,7 +151,7 @@ FfdDeformer FfdDeformer::bind(const Eigen::MatrixXd& V, const Options& options) 
   FfdDeformer f;
   f.options_ = options;
   f.dims_ = options.lattice;
-  const Eigen::Index L = f.controls();
+  const Eigen::Index L = static_cast<Eigen::Index>(f.dims_[0]) * f.dims_[1] * f.dims_[2];
   if (options.mode == Mode::Motor && options.blend == ga::Blend::Linear && L > 2048)
     throw Error("FfdDeformer: the dlb blend is limited to 2048 controls (" + std::to_string(L) + " given)");
   for (int a = 0; a < 3; ++a) {
@@ -218,11 +218,17 @@ FfdDeformer FfdDeformer::bind(const Eigen::MatrixXd& V, const Options& options) 
   f.points4_.assign(L, A4::Zero());
   f.motors_.resize(L);
   if (!f.pivot_.empty()) f.signs_.assign(L * L, 1);
+  f.controls_.reserve(static_cast<std::size_t>(f.C_.rows()));
+  for (int a = 0; a < f.dims_[0]; ++a)
+    for (int b = 0; b < f.dims_[1]; ++b)
+      for (int c = 0; c < f.dims_[2]; ++c)
+        f.controls_.push_back({"ffd[" + std::to_string(a) + "," + std::to_string(b) + "," + std::to_string(c) + "]",
+                               f.C_.row(f.index(a, b, c)).transpose()});
   return f;
 }
 
 void FfdDeformer::check_motors(std::span<const ga::Mot> motors) {
-  const Eigen::Index L = controls();
+  const Eigen::Index L = C_.rows();
   if (static_cast<Eigen::Index>(motors.size()) != L) {
     std::ostringstream s;
     s << "FfdDeformer: " << motors.size() << " motors given for " << L << " lattice controls";
@@ -233,7 +239,7 @@ void FfdDeformer::check_motors(std::span<const ga::Mot> motors) {
 
 void FfdDeformer::pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out) {
   check_motors(motors);
-  const Eigen::Index L = controls(), n = vertices();
+  const Eigen::Index L = C_.rows(), n = vertices();
   if (options_.mode == Mode::Position) {
     if (points_.rows() != L) points_.resize(L, 3);
     for (Eigen::Index j = 0; j < L; ++j) points_.row(j) = ga::transform(motors_[j], C_.row(j).transpose()).transpose();
@@ -258,7 +264,7 @@ void FfdDeformer::pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out) 
 }
 
 void FfdDeformer::pose_points(const Eigen::MatrixXd& controls_in, Eigen::MatrixXd& V_out) {
-  const Eigen::Index L = controls(), n = vertices();
+  const Eigen::Index L = C_.rows(), n = vertices();
   if (options_.mode != Mode::Position) throw Error("FfdDeformer::pose_points needs the position mode");
   if (controls_in.rows() != L || controls_in.cols() != 3) {
     std::ostringstream s;
@@ -274,7 +280,7 @@ void FfdDeformer::pose_points(const Eigen::MatrixXd& controls_in, Eigen::MatrixX
 }
 
 Eigen::SparseMatrix<double, Eigen::RowMajor> FfdDeformer::weights() const {
-  const Eigen::Index n = vertices(), L = controls();
+  const Eigen::Index n = vertices(), L = C_.rows();
   const int stride = order_[0] + order_[1] + order_[2];
   std::vector<Eigen::Triplet<double>> t;
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -294,7 +300,7 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> FfdDeformer::weights() const {
 
 ga::Mot FfdDeformer::vertex_motor(Eigen::Index i, std::span<const ga::Mot> motors) const {
   if (i < 0 || i >= vertices()) throw Error("FfdDeformer::vertex_motor: vertex " + std::to_string(i) + " out of range");
-  if (static_cast<Eigen::Index>(motors.size()) != controls()) throw Error("FfdDeformer::vertex_motor: wrong motor count");
+  if (static_cast<Eigen::Index>(motors.size()) != C_.rows()) throw Error("FfdDeformer::vertex_motor: wrong motor count");
   if (!inside_[i]) return ga::Mot(1.0, 0, 0, 0, 0, 0, 0, 0);
   const double* bu = basis_.data() + i * (order_[0] + order_[1] + order_[2]);
   const double* bv = bu + order_[0];

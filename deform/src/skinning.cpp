@@ -218,6 +218,7 @@ SkinDeformer SkinDeformer::bind_rows(const Mesh& rest, std::span<const Bone> bon
   d.matrices_.resize(B);
   d.logs_.resize(options.blend == Blend::PivotLog ? B * B : B);
   d.signs_.resize(options.blend == Blend::Linear ? B * B : 0);
+  for (const Bone& b : bones) d.controls_.push_back({b.name, b.head});
   return d;
 }
 
@@ -252,7 +253,7 @@ void SkinDeformer::prepare(std::span<const ga::Mot> frames) {
 
 void SkinDeformer::pose(std::span<const ga::Mot> frames, Eigen::MatrixXd& V_out) {
   prepare(frames);
-  const Eigen::Index n = vertices(), B = bones();
+  const Eigen::Index n = vertices(), B = static_cast<Eigen::Index>(bones_.size());
   if (V_out.rows() != n || V_out.cols() != 3) V_out.resize(n, 3);
   const Influence* inf = inf_.data();
   const Eigen::MatrixXd& P = P_;
@@ -314,7 +315,7 @@ Eigen::SparseMatrix<double> SkinDeformer::weights() const {
   for (Eigen::Index i = 0; i < vertices(); ++i)
     for (int s = 0; s < 4; ++s)
       if (inf_[i].w[s] != 0.0) t.emplace_back(i, inf_[i].bone[s], inf_[i].w[s]);
-  Eigen::SparseMatrix<double> W(vertices(), bones());
+  Eigen::SparseMatrix<double> W(vertices(), static_cast<Eigen::Index>(bones_.size()));
   W.setFromTriplets(t.begin(), t.end());
   return W;
 }

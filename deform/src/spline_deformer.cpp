@@ -19,6 +19,15 @@ SplineDeformer SplineDeformer::bind(const Mesh& rest, std::span<const Handle> ha
   for (Eigen::Index i = 0; i < n; ++i)
     spline_weights(options.basis, options.keys, options.degree, d.lambda_[i], W.row(i).data());  // W_j(λ_i)
   d.field_ = MotorBlendField::bind(rest.V, std::move(W), ga::Blend::Log, options.rest_keys);
+  if (!options.key_names.empty() && static_cast<int>(options.key_names.size()) != options.keys)
+    throw Error("SplineDeformer: " + std::to_string(options.key_names.size()) + " key names for " +
+                std::to_string(options.keys) + " keys");
+  const Eigen::Vector3d c0 = handle_centroid(rest.V, handles[0]), c1 = handle_centroid(rest.V, handles[1]);
+  for (int k = 0; k < options.keys; ++k) {
+    const double t = options.keys > 1 ? double(k) / double(options.keys - 1) : 0.0;
+    d.controls_.push_back({options.key_names.empty() ? "key" + std::to_string(k) : options.key_names[k],
+                           (1 - t) * c0 + t * c1});
+  }
   return d;
 }
 

@@ -1,11 +1,9 @@
 // Scene deformer "cage": CageDeformer (CGA paper §VI), one motor per cage vertex, named "cage[j]".
 //   {"type": "cage", "cage": "cage.obj" | {"box": {"margin": m}}, "coordinates": "harmonic" | "mean-value", "grid": g,
 //    "mode": "motor" | "position", "blend": "log" | "pivot-log" | "dlb"}
-// Defaults: harmonic, grid 64, motor, log. The cage path is relative to the scene file. A cage that is not
+// Defaults: CageDeformer::Options (harmonic, grid 64, motor, log). The cage path is relative to the scene file. A cage that is not
 // closed and consistently oriented, or a mesh vertex outside it, is an error naming it (exit 2).
 // Metrics gain "cage": vertices, coordinates, the interpolation bound of harmonic coordinates.
-#include <unordered_map>
-
 #include "spinmotor/deform/cage_deformer.hpp"
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/io.hpp"
@@ -14,45 +12,6 @@
 namespace spinmotor::scene {
 
 namespace {
-
-class CageScene final : public SceneDeformer {
-public:
-  CageScene(const Scene& s, CageDeformer d) : scene_(s), d_(std::move(d)) {
-    for (Eigen::Index j = 0; j < d_.controls(); ++j) {
-      index_["cage[" + std::to_string(j) + "]"] = names_.size();
-      names_.push_back("cage[" + std::to_string(j) + "]");
-    }
-    motors_.assign(names_.size(), ga::Mot(1, 0, 0, 0, 0, 0, 0, 0));
-  }
-  std::vector<std::string> controls() const override { return names_; }
-  std::optional<Eigen::Vector3d> control_anchor(const std::string& name) const override {
-    const auto it = index_.find(name);
-    if (it == index_.end()) return std::nullopt;
-    return d_.cage_points().row(static_cast<Eigen::Index>(it->second)).transpose();
-  }
-  void pose(const Pose& pose, Eigen::MatrixXd& V_out) override {
-    std::fill(motors_.begin(), motors_.end(), ga::Mot(1, 0, 0, 0, 0, 0, 0, 0));
-    for (const auto& [name, m] : pose.motors) motors_[index_.at(name)] = m;
-    try {
-      d_.pose(motors_, V_out);
-    } catch (const Error& e) {
-      throw Error(scene_.name() + ": " + e.what(), e.kind());
-    }
-  }
-  nlohmann::json report(const Pose&, const Eigen::MatrixXd&) const override {
-    const bool hc = d_.options().coordinates == CageDeformer::Coordinates::Harmonic;
-    nlohmann::json c = {{"vertices", d_.controls()}, {"coordinates", hc ? "harmonic" : "mean-value"}};
-    if (hc) c["grid"] = d_.options().grid, c["interpolation_bound"] = d_.interpolation_bound();
-    return {{"max_handle_error", nullptr}, {"cage", c}};
-  }
-
-private:
-  const Scene& scene_;
-  CageDeformer d_;
-  std::vector<std::string> names_;
-  std::unordered_map<std::string, std::size_t> index_;
-  std::vector<ga::Mot> motors_;
-};
 
 /// `"cage": {"box": {"margin": m}}`: the axis-aligned bounding box of V grown by m times its
 /// diagonal on every side, as a closed outward-oriented triangle cage (8 vertices, 12 faces).
@@ -79,12 +38,10 @@ Mesh box_cage(const Eigen::MatrixXd& V, double margin) {
 std::unique_ptr<SceneDeformer> bind_cage(const Scene& s) {
   const nlohmann::json& b = s.deformer;
   CageDeformer::Options o;
-  o.coordinates = b.value("coordinates", "harmonic") == "mean-value" ? CageDeformer::Coordinates::MeanValue
-                                                                      : CageDeformer::Coordinates::Harmonic;
-  o.grid = b.value("grid", 64);
-  o.mode = b.value("mode", "motor") == "position" ? CageDeformer::Mode::Position : CageDeformer::Mode::Motor;
-  const std::string blend = b.value("blend", "log");
-  o.blend = blend == "pivot-log" ? ga::Blend::PivotLog : blend == "dlb" ? ga::Blend::Linear : ga::Blend::Log;
+  o.coordinates = deformer_option(s, "coordinates", o.coordinates);
+  o.grid = b.value("grid", o.grid);
+  o.mode = deformer_option(s, "mode", o.mode);
+  o.blend = deformer_option(s, "blend", o.blend);
   Mesh cage;
   std::string cage_name = "bounding-box cage";
   if (b["cage"].is_object()) {
@@ -99,7 +56,16 @@ std::unique_ptr<SceneDeformer> bind_cage(const Scene& s) {
     }
   }
   try {
-    return std::make_unique<CageScene>(s, CageDeformer::bind(s.mesh, cage, o));
+    auto report = [](const AnyDeformer& any, std::span<const ga::Mot>, const Eigen::MatrixXd&) -> nlohmann::json {
+      const CageDeformer& d = *any.get<CageDeformer>();
+      const bool hc = d.options().coordinates == CageDeformer::Coordinates::Harmonic;
+      nlohmann::json c = {{"vertices", d.controls().size()}, {"coordinates", option_name(d.options().coordinates)}};
+      if (hc) c["grid"] = d.options().grid, c["interpolation_bound"] = d.interpolation_bound();
+      return {{"max_handle_error", nullptr}, {"cage", c}};
+    };
+    Rig rig;
+    rig.cage = std::move(cage);
+    return std::make_unique<SceneDeformer>(s, CageDeformer::bind(s.mesh, rig, o), report);
   } catch (const Error& e) {
     throw Error(s.name() + ": /deformer/cage: " + cage_name + ": " + e.what(), e.kind());
   }

@@ -35,6 +35,62 @@ std::unique_ptr<SceneDeformer> bind_deformer(const Scene& scene) {
                                           "' is not available in this build (available: " + available + ")");
 }
 
+SceneDeformer::SceneDeformer(const Scene& scene, AnyDeformer deformer, Report report, nlohmann::json bind_report,
+                             Motors motors)
+    : scene_(scene),
+      d_(std::move(deformer)),
+      report_(std::move(report)),
+      bind_report_(bind_report.is_null() ? nlohmann::json::object() : std::move(bind_report)),
+      motors_of_(std::move(motors)) {
+  motors_.assign(d_.controls().size(), ga::Mot(1, 0, 0, 0, 0, 0, 0, 0));
+}
+
+std::vector<std::string> SceneDeformer::control_names() const {
+  std::vector<std::string> names;
+  for (const Control& c : controls()) names.push_back(c.name);
+  return names;
+}
+
+std::optional<Eigen::Vector3d> SceneDeformer::control_anchor(const std::string& control) const {
+  for (const Control& c : controls())
+    if (c.name == control) return c.anchor;
+  return std::nullopt;
+}
+
+void SceneDeformer::pose(const Pose& pose, Eigen::MatrixXd& V_out) {
+  if (motors_of_) {
+    motors_of_(pose, motors_);
+  } else {
+    const auto& c = controls();
+    for (std::size_t j = 0; j < c.size(); ++j) motors_[j] = pose.motor(c[j].name);
+  }
+  try {
+    d_.pose(motors_, V_out);
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    if (msg.rfind(scene_.name() + ":", 0) == 0) throw;
+    throw Error(scene_.name() + ": " + msg, e.kind());
+  }
+}
+
+nlohmann::json SceneDeformer::report(const Pose& pose, const Eigen::MatrixXd& V_out) const {
+  nlohmann::json r = nlohmann::json::object();
+  if (report_) {
+    std::vector<ga::Mot> m(motors_.size());
+    if (motors_of_) {
+      motors_of_(pose, m);
+    } else {
+      const auto& c = controls();
+      for (std::size_t j = 0; j < c.size(); ++j) m[j] = pose.motor(c[j].name);
+    }
+    r = report_(d_, m, V_out);
+  }
+  if (!r.contains("max_handle_error")) r["max_handle_error"] = nullptr;
+  return r;
+}
+
+nlohmann::json SceneDeformer::bind_report() const { return bind_report_; }
+
 double max_handle_error(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V, std::span<const Handle> handles,
                         std::span<const ga::Mot> motors) {
   double e = 0.0;

@@ -1,7 +1,8 @@
 // Scene deformer "skin": SkinDeformer on the scene's top-level `skeleton`, one pose entry per bone name.
 //   {"type": "skin", "weights": "harmonic" | "<file>", "blend": "lbs" | "dlb" | "log" | "pivot-log",
 //    "joint_fraction": f}
-// Defaults: harmonic weights (bone_harmonic_weights with joint_fraction, default 0.25), dlb. A pose entry
+// Defaults: harmonic weights (bone_harmonic_weights with joint_fraction, default 0.25), the blend of
+// SkinDeformer::Options (dlb). A pose entry
 // is the world-space motion of its bone; a bone without an entry keeps its parent's (SCENE.md).
 // Weight files (relative to the scene file): "*.json" is SCENE.md's {"bones": [names], "weights": [[w per
 // bone] per vertex]} (errors name the file and the JSON pointer); any other extension is the text format
@@ -16,43 +17,6 @@
 namespace spinmotor::scene {
 
 namespace {
-
-class SkinScene final : public SceneDeformer {
-public:
-  SkinScene(const Scene& s, std::vector<Bone> bones, SkinDeformer d)
-      : scene_(s), bones_(std::move(bones)), d_(std::move(d)) {
-    given_.resize(bones_.size());
-  }
-  std::vector<std::string> controls() const override {
-    std::vector<std::string> names;
-    for (const Bone& b : bones_) names.push_back(b.name);
-    return names;
-  }
-  std::optional<Eigen::Vector3d> control_anchor(const std::string& name) const override {
-    for (const Bone& b : bones_)
-      if (b.name == name) return b.head;  // a bone's motor turns it about its head (the joint)
-    return std::nullopt;
-  }
-  void pose(const Pose& pose, Eigen::MatrixXd& V_out) override {
-    std::vector<bool> has(bones_.size(), false);
-    for (std::size_t j = 0; j < bones_.size(); ++j)
-      if (const auto it = pose.motors.find(bones_[j].name); it != pose.motors.end()) given_[j] = it->second, has[j] = true;
-    try {
-      d_.pose(inherit_bone_motions(bones_, given_, has), V_out);
-    } catch (const Error& e) {
-      throw Error(scene_.name() + ": " + e.what(), e.kind());
-    }
-  }
-  nlohmann::json report(const Pose&, const Eigen::MatrixXd&) const override {
-    return {{"max_handle_error", nullptr}, {"skin", {{"bones", bones_.size()}}}};
-  }
-
-private:
-  const Scene& scene_;
-  std::vector<Bone> bones_;
-  SkinDeformer d_;
-  std::vector<ga::Mot> given_;
-};
 
 Eigen::MatrixXd read_json_weights(const Scene& s, const std::filesystem::path& path, const std::vector<Bone>& bones) {
   const std::string who = path.string();
@@ -129,11 +93,7 @@ std::unique_ptr<SceneDeformer> bind_skin(const Scene& s) {
   }
   const nlohmann::json& b = s.deformer;
   SkinDeformer::Options o;
-  const std::string blend = b.value("blend", "dlb");
-  o.blend = blend == "lbs"         ? SkinDeformer::Blend::LBS
-            : blend == "log"       ? SkinDeformer::Blend::Log
-            : blend == "pivot-log" ? SkinDeformer::Blend::PivotLog
-                                   : SkinDeformer::Blend::Linear;
+  o.blend = deformer_option(s, "blend", o.blend);
   const std::string weights = b.value("weights", "harmonic");
   Eigen::MatrixXd W;
   try {
@@ -144,7 +104,18 @@ std::unique_ptr<SceneDeformer> bind_skin(const Scene& s) {
       W = path.extension() == ".json" ? read_json_weights(s, path, bones)
                                       : read_skin_weights(path, bones, s.mesh.V.rows());
     }
-    return std::make_unique<SkinScene>(s, bones, SkinDeformer::bind(s.mesh, bones, W, o));
+    // A pose entry is the world motion of its bone; a bone without one keeps its parent's.
+    auto motors = [bones](const Pose& pose, std::vector<ga::Mot>& out) {
+      std::vector<ga::Mot> given(bones.size(), ga::Mot(1, 0, 0, 0, 0, 0, 0, 0));
+      std::vector<bool> has(bones.size(), false);
+      for (std::size_t j = 0; j < bones.size(); ++j)
+        if (const auto it = pose.motors.find(bones[j].name); it != pose.motors.end()) given[j] = it->second, has[j] = true;
+      out = inherit_bone_motions(bones, given, has);
+    };
+    auto report = [n = bones.size()](const AnyDeformer&, std::span<const ga::Mot>, const Eigen::MatrixXd&) {
+      return nlohmann::json{{"max_handle_error", nullptr}, {"skin", {{"bones", n}}}};
+    };
+    return std::make_unique<SceneDeformer>(s, SkinDeformer::bind(s.mesh, bones, W, o), report, nlohmann::json{}, motors);
   } catch (const Error& e) {
     const std::string msg = e.what();
     if (msg.rfind(s.name() + ":", 0) == 0) throw;

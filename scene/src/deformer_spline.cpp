@@ -1,20 +1,20 @@
 // Scene deformer "spline": SplineDeformer (CGA paper §III), driven either by named key motors
-// (`keys`, posed in `pose`) or by a joint chain (§III.C): the `ik` block solved by FABRIK, or a posed
-// chain given in `fit`, turned into joint motors and fitted by a B-spline with pinned ends.
+// (`keys`, posed in `pose`), by the motors of its two end handles (no `keys`: keys {from, to}, linear
+// basis unless `basis` says otherwise), or by a joint chain (§III.C): the `ik` block solved by FABRIK
+// (SplineIkDeformer, one control "ik.target"), or a posed chain given in `fit`, turned into joint
+// motors and fitted by a B-spline with pinned ends.
 //   {"type": "spline", "from": handle, "to": handle, "basis": "linear" | "quadratic" | "bezier" |
 //    "bspline", "degree": d, "keys": [names], "weights": "mean-value" | "cotan",
 //    "fit": {"controls": m, "chain": [[x,y,z]...], "posed": [[x,y,z]...]}}
-// With an `ik` block the one control is "ik.target": its motor moves the scene's target point (an
-// animation or an interactive drag moves the target; FABRIK and the fit run again in pose(), which
-// stays per-frame work: no harmonic field is recomputed).
+// Defaults: SplineDeformer::Options (bspline, degree 3, mean-value), SplineIkDeformer::Options.
 #include <algorithm>
 #include <chrono>
-#include <limits>
 
-#include "spinmotor/deform/chain_fit.hpp"
-#include "spinmotor/deform/fabrik.hpp"
-#include "spinmotor/deform/spline_deformer.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/stopwatch.hpp"
+#include "spinmotor/deform/chain_fit.hpp"
+#include "spinmotor/deform/spline_deformer.hpp"
+#include "spinmotor/deform/spline_ik.hpp"
 #include "spinmotor/scene/deformer_registry.hpp"
 
 namespace spinmotor::scene {
@@ -36,145 +36,82 @@ Eigen::MatrixXd points(const json& a) {
   return P;
 }
 
-class SplineScene final : public SceneDeformer {
+/// A spline posed once by a given posed joint chain (`fit.posed`): the fit is bind-time work and the
+/// deformer has no controls.
+class PosedChainSpline {
 public:
-  SplineScene(const Scene& s, SplineDeformer d, int from, int to) : scene_(s), d_(std::move(d)), from_(from), to_(to) {}
-
-  // Keys mode.
-  std::vector<std::string> keys;
-  // Chain mode.
-  bool chain_mode = false;
-  ChainFit chain;
-  std::optional<FabrikResult> ik;
-  Eigen::MatrixXd rest_chain;
-  double ik_ms = 0, fit_ms = 0;
-
-  static constexpr const char* kIkTarget = "ik.target";
-
-  const Eigen::VectorXd& parameter() const { return d_.parameter(); }
-  std::vector<std::string> controls() const override {
-    return ik ? std::vector<std::string>{kIkTarget} : keys;
+  struct Options {
+    SplineDeformer::Options spline;
+    Eigen::MatrixXd rest_chain, posed_chain;
+  };
+  static PosedChainSpline bind(const Mesh& rest, const Rig& rig, const Options& o) {
+    PosedChainSpline d;
+    d.spline_ = SplineDeformer::bind(rest, rig.handles, o.spline);
+    const auto t0 = std::chrono::steady_clock::now();
+    d.fit_ = fit_chain(rest.V, d.spline_.parameter(), o.rest_chain, o.posed_chain,
+                       {.controls = o.spline.keys, .degree = o.spline.degree});
+    d.fit_ms_ = ms_since(t0);
+    return d;
   }
-
-  std::optional<Eigen::Vector3d> control_anchor(const std::string& name) const override {
-    if (ik) return name == kIkTarget ? std::optional<Eigen::Vector3d>(scene_.ik->target) : std::nullopt;
-    // Key j acts around parameter j/(k−1) of the harmonic field that runs from `from` to `to`.
-    const auto it = std::find(keys.begin(), keys.end(), name);
-    if (it == keys.end()) return std::nullopt;
-    const double t = keys.size() > 1 ? double(it - keys.begin()) / double(keys.size() - 1) : 0.0;
-    return (1 - t) * from_centroid_ + t * to_centroid_;
-  }
-
-  /// The target of this pose: the scene's target moved by the "ik.target" motor.
-  Eigen::Vector3d ik_target(const Pose& pose) const { return ga::to_isometry(pose.motor(kIkTarget)) * scene_.ik->target; }
-
-  /// FABRIK from the rest chain to `target`, then the B-spline fit of the joint motors (§III.C).
-  void solve_ik(const Eigen::Vector3d& target) {
-    using clock = std::chrono::steady_clock;
-    const auto t0 = clock::now();
-    ik = fabrik(rest_chain, target,
-                {.tolerance = scene_.ik->tolerance, .max_iterations = scene_.ik->iterations,
-                 .end_rotation = scene_.ik->orientation});
-    const auto t1 = clock::now();
-    chain = fit_chain(scene_.mesh.V, parameter(), rest_chain, ik->joints, {.controls = controls_, .degree = degree_},
-                      scene_.ik->orientation);
-    ik_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
-    fit_ms = std::chrono::duration<double, std::milli>(clock::now() - t1).count();
-    solved_target_ = target;
-  }
-
-  void pose(const Pose& pose, Eigen::MatrixXd& V_out) override {
-    if (ik) {
-      const Eigen::Vector3d target = ik_target(pose);
-      if (target != solved_target_) try {
-          solve_ik(target);
-        } catch (const Error& e) {
-          throw scene_.error(pose.entry_path(kIkTarget), e.what());
-        }
-    }
-    if (chain_mode) return d_.pose_generators(chain.fit.generators, V_out);
-    motors_.resize(keys.size());
-    for (std::size_t j = 0; j < keys.size(); ++j) motors_[j] = pose.motor(keys[j]);
-    d_.pose(motors_, V_out);
-  }
-
-  json report(const Pose& pose, const Eigen::MatrixXd& V_out) const override {
-    // The `from` handle follows the first key (control) and the `to` handle the last one exactly.
-    const ga::Mot first = chain_mode ? chain.fit.controls.front() : pose.motor(keys.front());
-    const ga::Mot last = chain_mode ? chain.fit.controls.back() : pose.motor(keys.back());
-    const Handle hs[2] = {scene_.handles[from_], scene_.handles[to_]};
-    const ga::Mot ms[2] = {first, last};
-    json r = {{"max_handle_error", max_handle_error(scene_.mesh.V, V_out, hs, ms)}};
-    if (ik) {
-      const Handle& to = scene_.handles[to_];
-      const Eigen::Vector3d tip = handle_centroid(V_out, to);
-      const Eigen::Vector3d t = ik_target(pose);
-      r["ik"] = {{"target", {t.x(), t.y(), t.z()}},
-                 {"reachable", ik->reachable},
-                 {"converged", ik->converged},
-                 {"iterations", ik->iterations},
-                 {"fabrik_error", ik->error},
-                 {"tip", {tip.x(), tip.y(), tip.z()}},
-                 {"tip_error", (tip - t).norm()}};
-    }
-    return r;
-  }
-
-  json bind_report() const override {
-    if (!chain_mode) return json::object();
-    json f = {{"controls", chain.fit.controls.size()},
-              {"used_svd", chain.fit.used_svd},
-              {"rcond", chain.fit.rcond},
-              {"residual", chain.fit.residual},
-              {"joint_parameters", std::vector<double>(chain.joint_parameters.data(),
-                                                       chain.joint_parameters.data() + chain.joint_parameters.size())},
-              {"fit_ms", fit_ms}};
-    json r = {{"fit", f}, {"posed_chain", to_json(ik ? ik->joints : points(scene_.deformer["fit"]["posed"]))}};
-    if (ik) r["ik_ms"] = ik_ms;
-    return r;
-  }
-
-  int controls_ = 0, degree_ = 3;  ///< of the chain fit
+  const std::vector<Control>& controls() const { return controls_; }
+  Eigen::Index vertices() const { return spline_.vertices(); }
+  void pose(std::span<const ga::Mot>, Eigen::MatrixXd& V_out) { spline_.pose_generators(fit_.fit.generators, V_out); }
+  const ChainFit& chain_fit() const { return fit_; }
+  double fit_ms() const { return fit_ms_; }
 
 private:
-  const Scene& scene_;
-  SplineDeformer d_;
-  int from_, to_;
-  Eigen::Vector3d from_centroid_ = handle_centroid(scene_.mesh.V, scene_.handles[from_]);
-  Eigen::Vector3d to_centroid_ = handle_centroid(scene_.mesh.V, scene_.handles[to_]);
-  Eigen::Vector3d solved_target_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-  std::vector<ga::Mot> motors_;
+  SplineDeformer spline_;
+  ChainFit fit_;
+  std::vector<Control> controls_;
+  double fit_ms_ = 0;
 };
 
-SplineBasis parse_basis(const std::string& b) {
-  if (b == "linear") return SplineBasis::Linear;
-  if (b == "quadratic") return SplineBasis::Quadratic;
-  if (b == "bezier") return SplineBasis::Bezier;
-  return SplineBasis::BSpline;
+json fit_report(const ChainFit& c, double fit_ms) {
+  return {{"controls", c.fit.controls.size()},
+          {"used_svd", c.fit.used_svd},
+          {"rcond", c.fit.rcond},
+          {"residual", c.fit.residual},
+          {"joint_parameters",
+           std::vector<double>(c.joint_parameters.data(), c.joint_parameters.data() + c.joint_parameters.size())},
+          {"fit_ms", fit_ms}};
+}
+
+/// Errors of the chain solve and fit (fabrik.hpp, chain_fit.hpp, bspline_fit.hpp, spline_ik.hpp), as
+/// opposed to those of the mesh and its handles (SplineDeformer::bind).
+bool is_chain_error(const std::string& msg) {
+  for (const char* p : {"fabrik", "chain_", "fit_bspline", "SplineIkDeformer"})
+    if (msg.rfind(p, 0) == 0) return true;
+  return false;
+}
+
+/// The `from` handle follows the first key (control) motor exactly and the `to` handle the last one.
+json end_handle_error(const Scene& s, int from, int to, const ga::Mot& first, const ga::Mot& last,
+                      const Eigen::MatrixXd& V) {
+  const Handle hs[2] = {s.handles[from], s.handles[to]};
+  const ga::Mot ms[2] = {first, last};
+  return max_handle_error(s.mesh.V, V, hs, ms);
 }
 
 }  // namespace
 
 std::unique_ptr<SceneDeformer> bind_spline(const Scene& s) {
-  using clock = std::chrono::steady_clock;
   const json& b = s.deformer;
   const std::string from = b["from"].get<std::string>(), to = b["to"].get<std::string>();
   s.handle(from, "/deformer/from");
   s.handle(to, "/deformer/to");
   if (from == to) throw s.error("/deformer/to", "`from` and `to` must be different handles");
   const int ifrom = s.handle_index(from), ito = s.handle_index(to);
-  const Handle ends[2] = {s.handles[ifrom], s.handles[ito]};
+  const Rig rig{.handles = {s.handles[ifrom], s.handles[ito]}};
 
   SplineDeformer::Options o;
-  o.basis = parse_basis(b.value("basis", "bspline"));
-  o.degree = b.value("degree", 3);
-  o.weights = b.value("weights", "mean-value") == "cotan" ? HarmonicWeights::Cotangent : HarmonicWeights::MeanValue;
+  o.basis = deformer_option(s, "basis", o.basis);
+  o.degree = b.value("degree", o.degree);
+  o.weights = deformer_option(s, "weights", o.weights);
   const json fit = b.value("fit", json::object());
   const bool chain_mode = s.ik.has_value() || fit.contains("posed");
-
-  auto bind = [&](const SplineDeformer::Options& opt) {
+  auto bound = [&](auto&& bind) {
     try {
-      return SplineDeformer::bind(s.mesh, ends, opt);
+      return bind();
     } catch (const Error& e) {
       throw Error(s.name() + ": " + e.what(), e.kind());
     }
@@ -182,65 +119,108 @@ std::unique_ptr<SceneDeformer> bind_spline(const Scene& s) {
 
   if (!chain_mode) {
     if (fit.size() > 0) throw s.error("/deformer/fit", "a fit needs a posed chain: an `ik` block or `fit.posed`");
-    if (!b.contains("keys"))
-      throw s.error("/deformer", "the spline deformer needs `keys` (names of its key motors) or an `ik` block");
-    std::vector<std::string> keys = b["keys"].get<std::vector<std::string>>();
+    std::vector<std::string> keys = {from, to};  // no `keys`: the end handles' motors are the two keys
+    if (b.contains("keys")) {
+      keys = b["keys"].get<std::vector<std::string>>();
+    } else if (!b.contains("basis")) {
+      o.basis = SplineBasis::Linear;
+    }
     for (std::size_t i = 0; i < keys.size(); ++i)
       for (std::size_t j = 0; j < i; ++j)
         if (keys[i] == keys[j]) throw s.error("/deformer/keys/" + std::to_string(i), "duplicate key name '" + keys[i] + "'");
     o.keys = static_cast<int>(keys.size());
+    o.key_names = keys;
     try {
       check_spline(o.basis, o.keys, o.degree);
     } catch (const Error& e) {
-      throw s.error("/deformer/keys", e.what());
+      throw s.error(b.contains("keys") ? "/deformer/keys" : "/deformer/basis", e.what());
     }
-    auto d = std::make_unique<SplineScene>(s, bind(o), ifrom, ito);
-    d->keys = std::move(keys);
-    return d;
+    auto report = [&s, ifrom, ito](const AnyDeformer&, std::span<const ga::Mot> m, const Eigen::MatrixXd& V) {
+      return json{{"max_handle_error", end_handle_error(s, ifrom, ito, m.front(), m.back(), V)}};
+    };
+    return std::make_unique<SceneDeformer>(s, bound([&] { return SplineDeformer::bind(s.mesh, rig, o); }), report);
   }
 
   // Chain mode (§III.C): joint motors → B-spline fit → control generators.
   if (o.basis != SplineBasis::BSpline)
     throw s.error("/deformer/basis", "fitting a joint chain (§III.C) needs the bspline basis");
   if (b.contains("keys")) throw s.error("/deformer/keys", "the key motors come from the chain fit: remove `keys`");
-  Eigen::MatrixXd rest, posed;
-  std::optional<ga::Rot> end_rotation;
+  Eigen::MatrixXd rest = s.ik ? s.ik->chain : Eigen::MatrixXd();
   if (s.ik) {
     if (fit.contains("chain") || fit.contains("posed"))
       throw s.error("/deformer/fit", "the chain comes from the `ik` block: remove `chain`/`posed` here");
-    rest = s.ik->chain;
-    end_rotation = s.ik->orientation;
+  } else if (!fit.contains("chain")) {
+    throw s.error("/deformer/fit", "`posed` needs the rest `chain`");
   } else {
-    if (!fit.contains("chain")) throw s.error("/deformer/fit", "`posed` needs the rest `chain`");
     rest = points(fit["chain"]);
-    posed = points(fit["posed"]);
-    if (posed.rows() != rest.rows())
-      throw s.error("/deformer/fit/posed", "has " + std::to_string(posed.rows()) + " joints, `chain` has " +
-                                               std::to_string(rest.rows()));
   }
   const int k = static_cast<int>(rest.rows());
   o.keys = fit.value("controls", std::max(o.degree + 1, k));
   if (o.keys < o.degree + 1)
     throw s.error("/deformer/fit/controls", "degree " + std::to_string(o.degree) + " needs at least " +
                                                 std::to_string(o.degree + 1) + " controls");
-  auto d = std::make_unique<SplineScene>(s, bind(o), ifrom, ito);
-  d->chain_mode = true;
-  d->rest_chain = rest;
-  d->controls_ = o.keys;
-  d->degree_ = o.degree;
-  try {
-    if (s.ik) {
-      d->solve_ik(s.ik->target);
-      return d;
-    }
-    const auto t1 = clock::now();
-    d->chain = fit_chain(s.mesh.V, d->parameter(), rest, posed, {.controls = o.keys, .degree = o.degree},
-                         end_rotation);
-    d->fit_ms = std::chrono::duration<double, std::milli>(clock::now() - t1).count();
-  } catch (const Error& e) {
-    throw s.error(s.ik ? "/ik" : "/deformer/fit", e.what());
+
+  if (s.ik) {
+    SplineIkDeformer::Options io;
+    io.controls = o.keys;
+    io.degree = o.degree;
+    io.weights = o.weights;
+    Rig ik_rig = rig;
+    ik_rig.ik = IkChain{.chain = s.ik->chain,
+                        .target = s.ik->target,
+                        .tolerance = s.ik->tolerance,
+                        .iterations = s.ik->iterations,
+                        .orientation = s.ik->orientation};
+    SplineIkDeformer d = [&] {
+      try {
+        return SplineIkDeformer::bind(s.mesh, ik_rig, io);
+      } catch (const Error& e) {
+        const std::string msg = e.what();
+        // A failed first solve (FABRIK or the fit) is a problem of the ik block; the rest of the mesh's.
+        if (is_chain_error(msg)) throw s.error("/ik", msg);
+        throw Error(s.name() + ": " + msg, e.kind());
+      }
+    }();
+    json bind_report = {{"fit", fit_report(d.chain_fit(), d.fit_ms())},
+                        {"posed_chain", to_json(d.fabrik_result().joints)},
+                        {"ik_ms", d.fabrik_ms()}};
+    auto report = [&s, ifrom, ito](const AnyDeformer& any, std::span<const ga::Mot>, const Eigen::MatrixXd& V) {
+      const SplineIkDeformer& ik = *any.get<SplineIkDeformer>();
+      const auto& c = ik.chain_fit().fit.controls;
+      const Eigen::Vector3d tip = handle_centroid(V, s.handles[ito]), t = ik.target();
+      const FabrikResult& f = ik.fabrik_result();
+      return json{{"max_handle_error", end_handle_error(s, ifrom, ito, c.front(), c.back(), V)},
+                  {"ik",
+                   {{"target", {t.x(), t.y(), t.z()}},
+                    {"reachable", f.reachable},
+                    {"converged", f.converged},
+                    {"iterations", f.iterations},
+                    {"fabrik_error", f.error},
+                    {"tip", {tip.x(), tip.y(), tip.z()}},
+                    {"tip_error", (tip - t).norm()}}}};
+    };
+    return std::make_unique<SceneDeformer>(s, std::move(d), report, bind_report);
   }
-  return d;
+
+  const Eigen::MatrixXd posed = points(fit["posed"]);
+  if (posed.rows() != rest.rows())
+    throw s.error("/deformer/fit/posed",
+                  "has " + std::to_string(posed.rows()) + " joints, `chain` has " + std::to_string(rest.rows()));
+  PosedChainSpline d = [&] {
+    try {
+      return PosedChainSpline::bind(s.mesh, rig, {.spline = o, .rest_chain = rest, .posed_chain = posed});
+    } catch (const Error& e) {
+      const std::string msg = e.what();
+      if (is_chain_error(msg)) throw s.error("/deformer/fit", msg);
+      throw Error(s.name() + ": " + msg, e.kind());
+    }
+  }();
+  json bind_report = {{"fit", fit_report(d.chain_fit(), d.fit_ms())}, {"posed_chain", to_json(posed)}};
+  auto report = [&s, ifrom, ito](const AnyDeformer& any, std::span<const ga::Mot>, const Eigen::MatrixXd& V) {
+    const auto& c = any.get<PosedChainSpline>()->chain_fit().fit.controls;
+    return json{{"max_handle_error", end_handle_error(s, ifrom, ito, c.front(), c.back(), V)}};
+  };
+  return std::make_unique<SceneDeformer>(s, std::move(d), report, bind_report);
 }
 
 }  // namespace spinmotor::scene

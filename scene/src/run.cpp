@@ -33,7 +33,7 @@ RunResult run_scene(const Scene& scene, const RunProgress& progress) {
   auto seconds = [&] { return std::chrono::duration<double>(clock::now() - t0).count(); };
 
   // Every pose entry must name a control of this deformer.
-  const std::vector<std::string> controls = d->controls();
+  const std::vector<std::string> controls = d->control_names();
   const std::set<std::string> known(controls.begin(), controls.end());
   for (const Pose& p : scene.frames)
     for (const auto& [name, _] : p.motors)

@@ -96,7 +96,7 @@ ga::Mot parse_motor(const json& j, const std::string& pointer, const std::string
     iso.translation() = m.topRightCorner<3, 1>();
     try {
       return ga::from_isometry(iso);
-    } catch (const std::invalid_argument& e) {
+    } catch (const Error& e) {
       throw fail("/matrix", std::string("not a rigid motion (") + e.what() + ")");
     }
   }

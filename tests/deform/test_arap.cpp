@@ -177,7 +177,7 @@ TEST_CASE("ARAP: all handles moved by one rigid motion move the whole mesh rigid
       Eigen::MatrixXd V;
       d.pose(motors, V);
       const ArapReport& r = d.report();
-      INFO(to_string(energy) << ", initial " << to_string(initial) << ": " << r.iterations << " iterations, E_0 "
+      INFO(option_name(energy) << ", initial " << option_name(initial) << ": " << r.iterations << " iterations, E_0 "
                              << r.energy.front() << ", E " << r.energy.back());
       CHECK(r.converged);
       CHECK(r.energy.back() <= 1e-20);
@@ -285,7 +285,7 @@ TEST_CASE("ARAP: a bar bent 90 degrees by its end handles keeps its edge lengths
     std::printf(
         "[arap] cross bar bent 90 deg (%lld vertices, initial %s): %d iterations, E %.6g, max |l'/l - 1| = %.4f, "
         "mean |log| edge distortion %.4f\n",
-        static_cast<long long>(m.V.rows()), to_string(initial), d.report().iterations, d.report().energy.back(),
+        static_cast<long long>(m.V.rows()), std::string(option_name(initial)).c_str(), d.report().iterations, d.report().energy.back(),
         strain, ed.mean_abs);
     CHECK(d.report().converged);
     CHECK(strain < 0.05);

@@ -124,14 +124,14 @@ TEST_CASE("cage deformer: rest pose, rigid motion in motor mode, position mode",
     for (auto blend : {ga::Blend::Log, ga::Blend::PivotLog, ga::Blend::Linear}) {
       CageDeformer d = CageDeformer::bind(inner, cage, {coords, 24, CageDeformer::Mode::Motor, blend});
       MatrixXd V;
-      d.pose(std::vector<ga::Mot>(d.controls(), ga::Mot(1, 0, 0, 0, 0, 0, 0, 0)), V);
+      d.pose(std::vector<ga::Mot>(d.controls().size(), ga::Mot(1, 0, 0, 0, 0, 0, 0, 0)), V);
       CHECK((V - inner.V).cwiseAbs().maxCoeff() < 1e-12);
-      d.pose(std::vector<ga::Mot>(d.controls(), R), V);
+      d.pose(std::vector<ga::Mot>(d.controls().size(), R), V);
       CHECK((V - expected).cwiseAbs().maxCoeff() < 1e-12);
     }
     CageDeformer p = CageDeformer::bind(inner, cage, {coords, 24, CageDeformer::Mode::Position});
     MatrixXd V;
-    p.pose(std::vector<ga::Mot>(p.controls(), R), V);
+    p.pose(std::vector<ga::Mot>(p.controls().size(), R), V);
     CHECK((V - expected).rowwise().norm().maxCoeff() <= std::max(1e-10, p.interpolation_bound()));
     // moving one cage vertex moves the mesh by λ_j times its displacement
     MatrixXd C = cage.V, V0;

@@ -47,7 +47,7 @@ TEST_CASE("FFD: the undeformed lattice reproduces the mesh", "[ffd]") {
       for (auto blend : {ga::Blend::Log, ga::Blend::Linear}) {
         FfdDeformer d = FfdDeformer::bind(m, opts(basis, mode, {5, 4, 7}, blend));
         MatrixXd V;
-        d.pose(identities(d.controls()), V);
+        d.pose(identities(d.controls().size()), V);
         CHECK((V - m.V).cwiseAbs().maxCoeff() < 1e-12);
         CHECK(d.outside() == 0);
         if (mode == FfdDeformer::Mode::Position) {
@@ -56,7 +56,7 @@ TEST_CASE("FFD: the undeformed lattice reproduces the mesh", "[ffd]") {
         }
         // weights: a partition of unity
         const auto W = d.weights();
-        const Eigen::VectorXd rows = W * Eigen::VectorXd::Ones(d.controls());
+        const Eigen::VectorXd rows = W * Eigen::VectorXd::Ones(d.controls().size());
         CHECK((rows.array() - 1.0).abs().maxCoeff() < 1e-14);
       }
 }
@@ -111,7 +111,7 @@ TEST_CASE("FFD: moving one control moves exactly the vertices in its support", "
   CHECK(wrong == 0);
   // motor mode: rotating the same control moves the same set
   FfdDeformer dm = FfdDeformer::bind(m, opts(FfdDeformer::Basis::BSpline, FfdDeformer::Mode::Motor, {8, 8, 6}));
-  auto M = identities(dm.controls());
+  auto M = identities(dm.controls().size());
   M[c] = rigid({1, 2, 0}, 40, {0.1, 0, 0.2});
   dm.pose(M, V);
   wrong = 0;  // motor mode: unsupported vertices get exp(0) = 1 exactly, so they do not move at all
@@ -129,7 +129,7 @@ TEST_CASE("FFD: the same rigid motion on every control moves the mesh rigidly", 
       for (auto blend : {ga::Blend::Log, ga::Blend::Linear}) {
         FfdDeformer d = FfdDeformer::bind(m, opts(basis, mode, {4, 6, 5}, blend));
         MatrixXd V;
-        d.pose(std::vector<ga::Mot>(d.controls(), R), V);
+        d.pose(std::vector<ga::Mot>(d.controls().size(), R), V);
         CHECK((V - expected).cwiseAbs().maxCoeff() < 1e-12);
       }
 }
@@ -156,7 +156,7 @@ TEST_CASE("FFD motor mode: the fast path equals ga::blend over the supporting co
   for (auto basis : {FfdDeformer::Basis::Bezier, FfdDeformer::Basis::BSpline})
     for (auto blend : {ga::Blend::Log, ga::Blend::Linear}) {
       FfdDeformer d = FfdDeformer::bind(m, opts(basis, FfdDeformer::Mode::Motor, {5, 5, 5}, blend));
-      std::vector<ga::Mot> M(d.controls());
+      std::vector<ga::Mot> M(d.controls().size());
       for (auto& mo : M) mo = rigid({u(rng), u(rng), u(rng)}, 60 * u(rng), {0.3 * u(rng), 0.3 * u(rng), 0.3 * u(rng)});
       MatrixXd V;
       d.pose(M, V);
@@ -177,7 +177,7 @@ TEST_CASE("FFD: vertices outside an explicit box are unchanged and counted", "[f
   CHECK(d.outside() == expected);
   CHECK(expected > 0);
   MatrixXd V;
-  d.pose(std::vector<ga::Mot>(d.controls(), rigid({0, 0, 1}, 30, {1, 0, 0})), V);
+  d.pose(std::vector<ga::Mot>(d.controls().size(), rigid({0, 0, 1}, 30, {1, 0, 0})), V);
   Index same = 0;
   for (Index i = 0; i < m.V.rows(); ++i)
     if (!d.inside(i)) same += V.row(i) == m.V.row(i);

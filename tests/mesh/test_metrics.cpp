@@ -200,8 +200,8 @@ TEST_CASE("vertex distances: alignment removes exactly what it should", "[metric
   const VertexDistances ds = vertex_distances(m.V, 1.5 * m.V, Alignment::Rigid);
   CHECK_THAT(ds.max, WithinRel(0.5 * 2.0 / diag, 1e-12));
   CHECK_THAT(ds.rms, WithinRel(0.5 * 2.0 / diag, 1e-12));
-  CHECK(parse_alignment("rigid") == Alignment::Rigid);
-  CHECK_THROWS_WITH(parse_alignment("affine"), Catch::Contains("affine"));
+  CHECK(parse_option<Alignment>("rigid") == Alignment::Rigid);
+  CHECK_THROWS_WITH(parse_option<Alignment>("affine"), Catch::Contains("affine"));
 }
 
 TEST_CASE("point-to-surface distances match brute force, Hausdorff of translated copies",

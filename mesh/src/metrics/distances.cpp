@@ -31,28 +31,6 @@ Similarity umeyama_fit(const Eigen::MatrixXd& src, const Eigen::MatrixXd& dst, b
   return T;
 }
 
-Alignment parse_alignment(const std::string& name) {
-  if (name == "none") return Alignment::None;
-  if (name == "translation") return Alignment::Translation;
-  if (name == "rigid") return Alignment::Rigid;
-  if (name == "similarity") return Alignment::Similarity;
-  throw Error("unknown alignment '" + name + "' (expected none, translation, rigid or similarity)");
-}
-
-const char* to_string(Alignment a) {
-  switch (a) {
-    case Alignment::None:
-      return "none";
-    case Alignment::Translation:
-      return "translation";
-    case Alignment::Rigid:
-      return "rigid";
-    case Alignment::Similarity:
-      return "similarity";
-  }
-  return "none";
-}
-
 VertexDistances vertex_distances(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V_def,
                                  Alignment alignment) {
   detail::check_points(V_rest, "vertex_distances", "rest");

@@ -35,7 +35,7 @@ Session Session::open(const std::filesystem::path& path) {
     const auto t0 = std::chrono::steady_clock::now();
     s.deformer_ = scene::bind_deformer(*s.scene_);
     s.bind_ms_ = ms_since(t0);
-    s.controls_ = s.deformer_->controls();
+    s.controls_ = s.deformer_->control_names();
     if (!s.scene_->frames.empty()) s.pose_ = s.scene_->frames.front();
   } else {
     s.scene_->file = path;
@@ -56,7 +56,7 @@ void Session::rebind(nlohmann::json doc) {
   sc->file = scene_->file;
   const auto t0 = std::chrono::steady_clock::now();
   auto deformer = scene::bind_deformer(*sc);
-  std::vector<std::string> controls = deformer->controls();
+  std::vector<std::string> controls = deformer->control_names();
   scene::Pose pose = pose_;
   std::erase_if(pose.motors, [&](const auto& kv) {
     return std::find(controls.begin(), controls.end(), kv.first) == controls.end();

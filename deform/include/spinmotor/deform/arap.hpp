@@ -65,10 +65,12 @@ namespace spinmotor {
 
 enum class ArapEnergy { Spokes, SpokesAndRims };
 enum class ArapInitial { Rest, Harmonic, Previous };
-
-/// "spokes" / "spokes-and-rims"; "rest" / "harmonic" / "previous".
-const char* to_string(ArapEnergy e);
-const char* to_string(ArapInitial i);
+inline constexpr OptionNames<ArapEnergy, 2> kArapEnergyNames{
+    "energy", {{{ArapEnergy::Spokes, "spokes"}, {ArapEnergy::SpokesAndRims, "spokes-and-rims"}}}};
+constexpr const auto& option_names(ArapEnergy) { return kArapEnergyNames; }
+inline constexpr OptionNames<ArapInitial, 3> kArapInitialNames{
+    "initial", {{{ArapInitial::Rest, "rest"}, {ArapInitial::Harmonic, "harmonic"}, {ArapInitial::Previous, "previous"}}}};
+constexpr const auto& option_names(ArapInitial) { return kArapInitialNames; }
 
 /// What the last pose() did.
 struct ArapReport {
@@ -130,6 +132,10 @@ public:
   /// bad handles, a component without a handle or bad options; Numerical if the factorization fails.
   static ArapDeformer bind(const Mesh& rest, std::span<const Handle> handles, const Options& options);
   static ArapDeformer bind(const Mesh& rest, std::span<const Handle> handles);
+  /// The deformer shape (deformer.hpp): rig.handles, one control per handle.
+  static ArapDeformer bind(const Mesh& rest, const Rig& rig, const Options& options) {
+    return bind(rest, rig.handles, options);
+  }
 
   /// Changes the handles. The factorization is kept when the union of the handle vertices is
   /// unchanged (only the assignment of vertices to motors changed); otherwise L_FF is re-factorized.
@@ -151,7 +157,8 @@ public:
   const ArapBindReport& bind_report() const { return bind_report_; }
   const Options& options() const { return options_; }
   Eigen::Index vertices() const { return P_.rows(); }
-  Eigen::Index handles() const { return static_cast<Eigen::Index>(handle_sets_.size()); }
+  /// One control per handle (its name, anchored at its rest centroid).
+  const std::vector<Control>& controls() const { return controls_; }
   /// The global matrix (the cotangent Laplacian with the energy's weights), n×n.
   const Eigen::SparseMatrix<double>& laplacian() const { return L_; }
   /// The free vertex of each row of the factorized block L_FF (for messages of the factorization).
@@ -186,6 +193,7 @@ private:
   // Handles.
   std::vector<Eigen::VectorXi> handle_sets_;
   std::vector<std::string> handle_names_;
+  std::vector<Control> controls_;
   Eigen::VectorXi constrained_, constrained_handle_;  // handle of each constrained vertex (−1: unreferenced)
   std::vector<int> free_pos_;                 // row of each free vertex in L_FF, −1 − index if constrained
   Eigen::VectorXi free_order_;                // the free vertex of each row of L_FF

@@ -26,7 +26,7 @@ namespace spinmotor {
 class CageDeformer {
 public:
   enum class Coordinates { Harmonic, MeanValue };
-  enum class Mode { Position, Motor };
+  using Mode = ControlMode;
 
   struct Options {
     Coordinates coordinates = Coordinates::Harmonic;
@@ -40,6 +40,8 @@ public:
   /// Inputs: rest mesh (V read), cage (V, F: closed, consistently and outward oriented). Throws Error
   /// (check_cage; "mesh vertex i is outside the cage"; grid out of range).
   static CageDeformer bind(const Mesh& rest, const Mesh& cage, const Options& options);
+  /// The deformer shape (deformer.hpp): rig.cage. Throws Error when the rig has no cage.
+  static CageDeformer bind(const Mesh& rest, const Rig& rig, const Options& options);
 
   /// k unit motors, one per cage vertex. Output: V_out (n×3).
   void pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out);
@@ -47,7 +49,8 @@ public:
   void pose_points(const Eigen::MatrixXd& cage_points, Eigen::MatrixXd& V_out);
 
   Eigen::Index vertices() const { return W_.rows(); }
-  Eigen::Index controls() const { return C_.rows(); }
+  /// One control per cage vertex, named "cage[j]", anchored at it.
+  const std::vector<Control>& controls() const { return controls_; }
   /// n×k coordinates (row i: vertex i).
   const MotorBlendField::Weights& coordinates() const { return W_; }
   /// Rest cage vertices (k×3).
@@ -58,11 +61,17 @@ public:
 
 private:
   Options options_;
+  std::vector<Control> controls_;
   Eigen::MatrixXd C_;
   MotorBlendField::Weights W_;
   MotorBlendField field_;  // Motor mode
   Eigen::MatrixXd moved_;  // Position mode scratch (k×3)
   double bound_ = 0.0;
 };
+
+inline constexpr OptionNames<CageDeformer::Coordinates, 2> kCageCoordinatesNames{
+    "coordinates",
+    {{{CageDeformer::Coordinates::Harmonic, "harmonic"}, {CageDeformer::Coordinates::MeanValue, "mean-value"}}}};
+constexpr const auto& option_names(CageDeformer::Coordinates) { return kCageCoordinatesNames; }
 
 }  // namespace spinmotor

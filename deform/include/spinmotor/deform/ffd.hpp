@@ -45,7 +45,7 @@ namespace spinmotor {
 class FfdDeformer {
 public:
   enum class Basis { Bezier, BSpline };
-  enum class Mode { Position, Motor };
+  using Mode = ControlMode;
 
   struct Options {
     std::array<int, 3> lattice{4, 4, 4};  ///< controls per axis, each ≥ 2
@@ -66,6 +66,8 @@ public:
   /// Linear blend with more than 2048 controls (its sign table is L² doubles).
   static FfdDeformer bind(const Mesh& rest, const Options& options);
   static FfdDeformer bind(const Eigen::MatrixXd& V_rest, const Options& options);
+  /// The deformer shape (deformer.hpp): the lattice is an option, the rig is not read.
+  static FfdDeformer bind(const Mesh& rest, const Rig& /*rig*/, const Options& options) { return bind(rest, options); }
 
   /// One unit motor per control, in control order (see above). Output: V_out (n×3).
   void pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out);
@@ -73,7 +75,8 @@ public:
   void pose_points(const Eigen::MatrixXd& controls, Eigen::MatrixXd& V_out);
 
   Eigen::Index vertices() const { return P_.rows(); }
-  Eigen::Index controls() const { return static_cast<Eigen::Index>(dims_[0]) * dims_[1] * dims_[2]; }
+  /// One control per lattice point, named "ffd[a,b,c]", anchored at its rest position, in index() order.
+  const std::vector<Control>& controls() const { return controls_; }
   const std::array<int, 3>& lattice() const { return dims_; }
   Eigen::Index index(int a, int b, int c) const { return (static_cast<Eigen::Index>(a) * dims_[1] + b) * dims_[2] + c; }
   /// L×3 rest positions of the controls.
@@ -92,6 +95,7 @@ private:
   void check_motors(std::span<const ga::Mot> motors);
 
   Options options_;
+  std::vector<Control> controls_;
   std::array<int, 3> dims_{0, 0, 0};
   std::array<int, 3> order_{0, 0, 0};  // d + 1 per axis
   Eigen::AlignedBox3d box_;
@@ -109,5 +113,9 @@ private:
   std::vector<ga::Mot> motors_;
   Eigen::MatrixXd points_;
 };
+
+inline constexpr OptionNames<FfdDeformer::Basis, 2> kFfdBasisNames{
+    "basis", {{{FfdDeformer::Basis::Bezier, "bezier"}, {FfdDeformer::Basis::BSpline, "bspline"}}}};
+constexpr const auto& option_names(FfdDeformer::Basis) { return kFfdBasisNames; }
 
 }  // namespace spinmotor

@@ -24,10 +24,14 @@
 
 #include "spinmotor/deform/deformer.hpp"
 #include "spinmotor/mesh/mesh.hpp"
+#include "spinmotor/core/option_names.hpp"
 
 namespace spinmotor {
 
 enum class HarmonicWeights { MeanValue, Cotangent };
+inline constexpr OptionNames<HarmonicWeights, 2> kHarmonicWeightsNames{
+    "weights", {{{HarmonicWeights::MeanValue, "mean-value"}, {HarmonicWeights::Cotangent, "cotan"}}}};
+constexpr const auto& option_names(HarmonicWeights) { return kHarmonicWeightsNames; }
 
 /// "mean-value" / "cotan".
 const char* to_string(HarmonicWeights w);

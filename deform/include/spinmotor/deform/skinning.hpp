@@ -35,18 +35,6 @@
 
 namespace spinmotor {
 
-struct Bone {
-  std::string name;
-  int parent = -1;                  ///< index of the parent bone, −1 for a root
-  Eigen::Vector3d head{0, 0, 0};    ///< rest segment (bone_harmonic_weights)
-  Eigen::Vector3d tail{0, 0, 1};
-  ga::Mot rest{1, 0, 0, 0, 0, 0, 0, 0};  ///< rest frame F_j^0 (unit motor)
-};
-
-/// Throws Error naming the bone for an empty or repeated name, a parent out of range or equal to
-/// itself, a cycle of parents, head == tail, or a rest frame that is not a finite unit motor.
-void check_skeleton(std::span<const Bone> bones);
-
 /// The world motions of all bones from those given: given[j] is used when has[j], otherwise bone j
 /// keeps its parent's motion (a root with no entry: identity). Sizes B. Throws for a bad skeleton.
 std::vector<ga::Mot> inherit_bone_motions(std::span<const Bone> bones, std::span<const ga::Mot> given,
@@ -70,9 +58,18 @@ Eigen::MatrixXd bone_harmonic_weights(const Mesh& mesh, std::span<const Bone> bo
 /// finite, an all-zero row, and "path: ..." for a file that cannot be read or has a vertex count ≠ n.
 Eigen::MatrixXd read_skin_weights(const std::filesystem::path& path, std::span<const Bone> bones, Eigen::Index n);
 
+/// The skinning blends: the motor blends of ga::Blend (same order) and linear blend skinning.
+enum class SkinBlend { Log, PivotLog, Linear, LBS };
+inline constexpr OptionNames<SkinBlend, 4> kSkinBlendNames{"blend",
+                                                           {{{SkinBlend::LBS, "lbs"},
+                                                             {SkinBlend::Linear, "dlb"},
+                                                             {SkinBlend::Log, "log"},
+                                                             {SkinBlend::PivotLog, "pivot-log"}}}};
+constexpr const auto& option_names(SkinBlend) { return kSkinBlendNames; }
+
 class SkinDeformer {
 public:
-  enum class Blend { LBS, Linear, Log, PivotLog };
+  using Blend = SkinBlend;
 
   struct Options {
     Blend blend = Blend::Linear;
@@ -86,12 +83,17 @@ public:
                            const Options& options);
   static SkinDeformer bind(const Mesh& rest, std::span<const Bone> bones,
                            const Eigen::SparseMatrix<double>& weights, const Options& options);
+  /// The deformer shape (deformer.hpp): rig.skeleton and rig.weights (n×B).
+  static SkinDeformer bind(const Mesh& rest, const Rig& rig, const Options& options) {
+    return bind(rest, rig.skeleton, rig.weights, options);
+  }
 
   /// B posed world frames F_j (unit motors), in bone order. Output: V_out (n×3).
   void pose(std::span<const ga::Mot> frames, Eigen::MatrixXd& V_out);
 
   Eigen::Index vertices() const { return P_.rows(); }
-  Eigen::Index bones() const { return static_cast<Eigen::Index>(bones_.size()); }
+  /// One control per bone (its name, anchored at its rest head): the posed world frames.
+  const std::vector<Control>& controls() const { return controls_; }
   /// The kept weights as an n×B sparse matrix (≤ 4 per row, rows sum to 1).
   Eigen::SparseMatrix<double> weights() const;
   /// The motor of vertex i for the given frames (Linear / Log / PivotLog: ga::blend reference path).
@@ -108,6 +110,7 @@ private:
   void prepare(std::span<const ga::Mot> frames);
 
   Options options_;
+  std::vector<Control> controls_;
   std::vector<Bone> bones_;
   Eigen::MatrixXd P_;
   std::vector<Influence> inf_;

@@ -16,10 +16,17 @@
 #include <Eigen/Core>
 #include <utility>
 #include <vector>
+#include "spinmotor/core/option_names.hpp"
 
 namespace spinmotor {
 
 enum class SplineBasis { Linear, Quadratic, Bezier, BSpline };
+inline constexpr OptionNames<SplineBasis, 4> kSplineBasisNames{"basis",
+                                                               {{{SplineBasis::Linear, "linear"},
+                                                                 {SplineBasis::Quadratic, "quadratic"},
+                                                                 {SplineBasis::Bezier, "bezier"},
+                                                                 {SplineBasis::BSpline, "bspline"}}}};
+constexpr const auto& option_names(SplineBasis) { return kSplineBasisNames; }
 
 /// "linear" / "quadratic" / "bezier" / "bspline".
 const char* to_string(SplineBasis basis);

@@ -30,11 +30,17 @@ public:
     HarmonicWeights weights = HarmonicWeights::MeanValue;
     /// Optional rest-pose key motors (§III.A binding); empty = identities.
     std::vector<ga::Mot> rest_keys;
+    /// Names of the key controls (size `keys`); empty: "key0", "key1", ...
+    std::vector<std::string> key_names;
   };
 
   /// handles: exactly two, {from (λ = 0), to (λ = 1)}. Throws Error for a bad basis/key count
   /// (check_spline), bad handles, a degenerate face, or a component without a handle vertex.
   static SplineDeformer bind(const Mesh& rest, std::span<const Handle> handles, const Options& options);
+  /// The deformer shape (deformer.hpp): rig.handles = {from, to}.
+  static SplineDeformer bind(const Mesh& rest, const Rig& rig, const Options& options) {
+    return bind(rest, rig.handles, options);
+  }
 
   /// n unit key motors (see deformer.hpp).
   void pose(std::span<const ga::Mot> keys, Eigen::MatrixXd& V_out) { field_.pose(keys, V_out); }
@@ -45,11 +51,16 @@ public:
   const Eigen::VectorXd& parameter() const { return lambda_; }
   const MotorBlendField& field() const { return field_; }
   const Options& options() const { return options_; }
+  /// One control per key; key j is anchored at (1 − t) c_from + t c_to, t = j/(keys − 1), c the rest
+  /// centroids of the end handles (where it acts along the harmonic parameter).
+  const std::vector<Control>& controls() const { return controls_; }
+  Eigen::Index vertices() const { return lambda_.size(); }
 
 private:
   Eigen::VectorXd lambda_;
   MotorBlendField field_;
   Options options_;
+  std::vector<Control> controls_;
 };
 
 }  // namespace spinmotor

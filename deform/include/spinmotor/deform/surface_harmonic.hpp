@@ -31,6 +31,10 @@ public:
   /// any handle vertex (naming it), or rest motors that are not unit.
   static SurfaceHarmonicDeformer bind(const Mesh& rest, std::span<const Handle> handles, const Options& options);
   static SurfaceHarmonicDeformer bind(const Mesh& rest, std::span<const Handle> handles);
+  /// The deformer shape (deformer.hpp): rig.handles, one control per handle.
+  static SurfaceHarmonicDeformer bind(const Mesh& rest, const Rig& rig, const Options& options) {
+    return bind(rest, rig.handles, options);
+  }
 
   /// One unit motor per handle, in handle order (see deformer.hpp).
   void pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out) { field_.pose(motors, V_out); }
@@ -38,12 +42,15 @@ public:
   /// n×k harmonic coordinates λ (row i: the weights of vertex i).
   const MotorBlendField::Weights& coordinates() const { return field_.weights(); }
   const MotorBlendField& field() const { return field_; }
-  Eigen::Index handles() const { return field_.controls(); }
+  /// One control per handle (its name, anchored at its rest centroid).
+  const std::vector<Control>& controls() const { return controls_; }
+  Eigen::Index vertices() const { return field_.vertices(); }
   const Options& options() const { return options_; }
 
 private:
   MotorBlendField field_;
   Options options_;
+  std::vector<Control> controls_;
 };
 
 }  // namespace spinmotor

@@ -24,10 +24,13 @@
 
 // Everything in ga is small and meant to be inlined into straight-line code; the product bodies are
 // forced inline so that the per-term coefficients (±1) fold into adds and subtracts.
+// SPINMOTOR_GA_PURE marks the value-returning ones: discarding a product is always a mistake.
 #if defined(__GNUC__)
 #define SPINMOTOR_GA_INLINE [[gnu::always_inline]] inline
+#define SPINMOTOR_GA_PURE [[nodiscard, gnu::always_inline]] inline
 #else
 #define SPINMOTOR_GA_INLINE inline
+#define SPINMOTOR_GA_PURE [[nodiscard]] inline
 #endif
 
 namespace spinmotor::ga {
@@ -37,11 +40,11 @@ using Basis = std::uint8_t;
 inline constexpr Basis kNeg = 0x80;
 
 /// The blade mask (bits 0..4) of a basis element.
-constexpr unsigned mask_of(Basis b) { return b & 31u; }
+[[nodiscard]] constexpr unsigned mask_of(Basis b) { return b & 31u; }
 /// +1 or -1: the orientation of a basis element relative to its blade.
-constexpr int orientation_of(Basis b) { return (b & kNeg) ? -1 : 1; }
+[[nodiscard]] constexpr int orientation_of(Basis b) { return (b & kNeg) ? -1 : 1; }
 /// The grade of a blade mask (number of vectors in it).
-constexpr int grade_of(unsigned mask) { return std::popcount(mask); }
+[[nodiscard]] constexpr int grade_of(unsigned mask) { return std::popcount(mask); }
 
 /// Named basis elements. `o` is the origin, `ni` is infinity (inf); e31 = -e13, e32 = -e23, e21 = -e12.
 namespace blade {
@@ -59,7 +62,7 @@ inline constexpr Basis I5 = kNeg | 31;
 namespace detail {
 
 /// Sign of reordering the vectors of e_a e_b into increasing order (pairs i in a, j in b with i > j).
-constexpr int reorder_sign(unsigned a, unsigned b) {
+[[nodiscard]] constexpr int reorder_sign(unsigned a, unsigned b) {
   int swaps = 0;
   for (a >>= 1; a != 0; a >>= 1) swaps += std::popcount(a & b);
   return (swaps & 1) ? -1 : 1;
@@ -82,7 +85,7 @@ struct Terms {
 /// commutes with them), so  a b = (-1)^{|A_N||B_E|} (A_E B_E)(A_N B_N)  and A_N B_N is read from the
 /// 4×4 table of the null pair: o o = inf inf = 0, o inf = -1 + E, inf o = -1 - E, o E = o, E o = -o,
 /// E inf = inf, inf E = -inf, E E = 1.
-constexpr Terms blade_gp(unsigned a, unsigned b) {
+[[nodiscard]] constexpr Terms blade_gp(unsigned a, unsigned b) {
   const unsigned ae = a & 7u, an = a >> 3, be = b & 7u, bn = b >> 3;
   int sign = reorder_sign(ae, be);
   if ((std::popcount(an) * std::popcount(be)) & 1) sign = -sign;
@@ -116,7 +119,7 @@ constexpr Terms blade_gp(unsigned a, unsigned b) {
 enum class Op { Geometric, Outer, LeftContraction, RightContraction, Scalar };
 
 /// A bilinear product of two basis blades, as signed blades.
-constexpr Terms blade_product(Op op, unsigned a, unsigned b) {
+[[nodiscard]] constexpr Terms blade_product(Op op, unsigned a, unsigned b) {
   if (op == Op::Outer) {  // metric-free: e_a ∧ e_b = sign · e_(a|b), zero when they share a vector
     Terms t;
     if ((a & b) == 0) t.push(reorder_sign(a, b), a | b);
@@ -136,7 +139,7 @@ constexpr Terms blade_product(Op op, unsigned a, unsigned b) {
 }
 
 template <std::size_t N>
-constexpr bool masks_unique(const std::array<Basis, N>& b) {
+[[nodiscard]] constexpr bool masks_unique(const std::array<Basis, N>& b) {
   for (std::size_t i = 0; i < N; ++i)
     for (std::size_t j = i + 1; j < N; ++j)
       if (mask_of(b[i]) == mask_of(b[j])) return false;
@@ -187,7 +190,7 @@ struct MV {
 
   /// The coefficient of basis element X (e.g. get<blade::e31>()), 0 when the type does not hold it.
   template <Basis X>
-  constexpr double get() const {
+  [[nodiscard]] constexpr double get() const {
     constexpr int i = index_of(mask_of(X));
     if constexpr (i < 0) {
       return 0.0;
@@ -200,10 +203,10 @@ struct MV {
 
   // ---- quaternion view, only for Rot (= Quat): q = w + x i + y j + z k, i = e32, j = e13, k = e21 ----
   static constexpr bool is_quaternion = std::is_same_v<MV<B...>, QuatLayout>;
-  constexpr double w() const requires is_quaternion { return c[0]; }
-  constexpr double x() const requires is_quaternion { return c[1]; }
-  constexpr double y() const requires is_quaternion { return c[2]; }
-  constexpr double z() const requires is_quaternion { return c[3]; }
+  [[nodiscard]] constexpr double w() const requires is_quaternion { return c[0]; }
+  [[nodiscard]] constexpr double x() const requires is_quaternion { return c[1]; }
+  [[nodiscard]] constexpr double y() const requires is_quaternion { return c[2]; }
+  [[nodiscard]] constexpr double z() const requires is_quaternion { return c[3]; }
   constexpr double& w() requires is_quaternion { return c[0]; }
   constexpr double& x() requires is_quaternion { return c[1]; }
   constexpr double& y() requires is_quaternion { return c[2]; }
@@ -226,7 +229,7 @@ inline constexpr std::uint32_t blade_set_v = T::blade_set;
 /// canonical<Set>::type: the type a product returns when its non-zero blades are Set. Named types
 /// register themselves (types.hpp); any other set gets its blades in increasing mask order.
 namespace detail {
-constexpr Basis nth_blade(std::uint32_t set, std::size_t n) {
+[[nodiscard]] constexpr Basis nth_blade(std::uint32_t set, std::size_t n) {
   for (unsigned m = 0; m < 32; ++m)
     if ((set >> m) & 1u) {
       if (n == 0) return static_cast<Basis>(m);

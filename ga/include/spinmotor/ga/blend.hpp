@@ -13,17 +13,22 @@
 // and Linear aligns signs; both are continuous there.
 //
 // Inputs: n unit motors and n weights (n ≥ 1; weights are used as given, normally a partition of
-// unity). Output: a unit motor. No heap; meant for per-vertex loops. Throws std::invalid_argument on
-// mismatched or empty spans, std::domain_error on a non-finite weight or motor, on a motor with a zero
+// unity). Output: a unit motor. No heap; meant for per-vertex loops. Throws spinmotor::Error (BadInput) on
+// mismatched or empty spans, a non-finite weight or motor, on a motor with a zero
 // rotor part, and when a Linear blend cancels (only possible with negative weights).
 #include <cstddef>
 #include <span>
 
 #include "spinmotor/ga/motor.hpp"
+#include "spinmotor/core/option_names.hpp"
+#include "spinmotor/core/error.hpp"
 
 namespace spinmotor::ga {
 
 enum class Blend { Log, PivotLog, Linear };
+inline constexpr OptionNames<Blend, 3> kBlendNames{
+    "blend", {{{Blend::Log, "log"}, {Blend::PivotLog, "pivot-log"}, {Blend::Linear, "dlb"}}}};
+constexpr const auto& option_names(Blend) { return kBlendNames; }
 
 namespace detail {
 
@@ -62,12 +67,12 @@ Dll weighted_log_sum(std::span<const Mot> motors, std::span<const double> weight
   }
   const Dll sum(acc[0].sum(), acc[1].sum(), acc[2].sum(), acc[3].sum(), acc[4].sum(), acc[5].sum());
   if (!std::isfinite(sum[0] + sum[1] + sum[2] + sum[3] + sum[4] + sum[5]))
-    throw std::domain_error("ga::blend: a weight or a motor is not finite");
+    throw Error("ga::blend: a weight or a motor is not finite");
   return sum;
 }
 
 /// The index of the largest weight (the first one on ties), without data-dependent branches.
-inline std::size_t pivot(std::span<const double> weights) {
+[[nodiscard]] inline std::size_t pivot(std::span<const double> weights) noexcept {
   std::size_t p = 0;
   for (std::size_t i = 1; i < weights.size(); ++i) p = weights[i] > weights[p] ? i : p;
   return p;
@@ -75,7 +80,7 @@ inline std::size_t pivot(std::span<const double> weights) {
 
 /// DLB for motors: normalize(Σ w_i s_i M_i) with s_i the sign of <M_p ~M_i>_0 (the quaternion dot
 /// product of the rotor parts), accumulated as two 4-lane halves (rotor part, translation part).
-inline Mot linear_blend(std::span<const Mot> motors, std::span<const double> weights, std::size_t p) {
+[[nodiscard]] inline Mot linear_blend(std::span<const Mot> motors, std::span<const double> weights, std::size_t p) {
   using A = Lanes<4>;
   const A rotor_p = Eigen::Map<const A>(motors[p].data());
   A lo = A::Zero(), hi = A::Zero();
@@ -95,20 +100,20 @@ inline Mot linear_blend(std::span<const Mot> motors, std::span<const double> wei
 
 /// exp(Σ w_i B_i) for generators B_i = log(M_i) computed once: the per-vertex part of Blend::Log when
 /// many vertices blend the same few motors (handles). Throws like blend().
-inline Mot blend_logs(std::span<const Dll> logs, std::span<const double> weights) {
+[[nodiscard]] inline Mot blend_logs(std::span<const Dll> logs, std::span<const double> weights) {
   if (logs.empty() || weights.size() != logs.size())
-    throw std::invalid_argument("ga::blend_logs: needs as many weights as generators, and at least one");
+    throw Error("ga::blend_logs: needs as many weights as generators, and at least one");
   Dll acc;
   for (std::size_t i = 0; i < logs.size(); ++i) acc += weights[i] * logs[i];
   if (!std::isfinite(acc[0] + acc[1] + acc[2] + acc[3] + acc[4] + acc[5]))
-    throw std::domain_error("ga::blend_logs: a weight or a generator is not finite");
+    throw Error("ga::blend_logs: a weight or a generator is not finite");
   return exp(acc);
 }
 
-inline Mot blend(std::span<const Mot> motors, std::span<const double> weights, Blend mode) {
+[[nodiscard]] inline Mot blend(std::span<const Mot> motors, std::span<const double> weights, Blend mode) {
   const std::size_t n = motors.size();
   if (n == 0 || weights.size() != n)
-    throw std::invalid_argument("ga::blend: needs as many weights as motors, and at least one motor");
+    throw Error("ga::blend: needs as many weights as motors, and at least one motor");
   if (mode == Blend::Log) return exp(detail::weighted_log_sum<false>(motors, weights, Mot(), n));
   const std::size_t p = detail::pivot(weights);
   if (mode == Blend::PivotLog)  // log(M_p ~M_p) = 0: the pivot itself is skipped

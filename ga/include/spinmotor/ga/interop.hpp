@@ -11,17 +11,18 @@
 #include <utility>
 
 #include "spinmotor/ga/motor.hpp"
+#include "spinmotor/core/error.hpp"
 
 namespace spinmotor::ga {
 
 /// The rotor part of a motor as a quaternion (the real part of its dual quaternion).
-SPINMOTOR_GA_INLINE Quat rotor_part(const Mot& m) { return Quat(m[0], -m[3], -m[2], -m[1]); }
+SPINMOTOR_GA_PURE Quat rotor_part(const Mot& m) noexcept { return Quat(m[0], -m[3], -m[2], -m[1]); }
 
 /// The dual part of a motor's dual quaternion, q_d = ½ t q_r.
-inline Quat dual_part(const Mot& m) { return Quat(-m[7], -m[4], -m[5], -m[6]); }
+[[nodiscard]] inline Quat dual_part(const Mot& m) noexcept { return Quat(-m[7], -m[4], -m[5], -m[6]); }
 
 /// The translation t of a unit motor (applied after its rotation): t = 2 vec(q_d q̄_r).
-SPINMOTOR_GA_INLINE Eigen::Vector3d translation(const Mot& m) {
+SPINMOTOR_GA_PURE Eigen::Vector3d translation(const Mot& m) noexcept {
   const double w = m[0], rx = -m[3], ry = -m[2], rz = -m[1];
   const double d0 = -m[7], dx = -m[4], dy = -m[5], dz = -m[6];
   // 2 (w d - d0 r + r × d)
@@ -33,7 +34,7 @@ namespace detail {
 /// Eigen::Vector3d(a, b, c), writing (a, b) with one 16-byte store. Eigen copies the first two
 /// coefficients of a Vector3d as one packet; after two 8-byte stores that load cannot be forwarded from
 /// the store buffer, and the stall (~10 cycles) tripled the cost of transform() in point loops.
-SPINMOTOR_GA_INLINE Eigen::Vector3d vector3(double a, double b, double c) {
+SPINMOTOR_GA_PURE Eigen::Vector3d vector3(double a, double b, double c) noexcept {
   Eigen::Vector3d r;
 #if defined(__GNUC__)
   using v2d = double __attribute__((vector_size(16)));
@@ -50,7 +51,7 @@ SPINMOTOR_GA_INLINE Eigen::Vector3d vector3(double a, double b, double c) {
 
 /// The point M x ~M for a unit motor M: R x + t with R the rotation matrix of the rotor part and t
 /// the translation, on scalars (inlined into a loop over points with a fixed M, R and t are hoisted).
-SPINMOTOR_GA_INLINE Eigen::Vector3d transform(const Mot& m, const Eigen::Vector3d& p) {
+SPINMOTOR_GA_PURE Eigen::Vector3d transform(const Mot& m, const Eigen::Vector3d& p) noexcept {
   const double w = m[0], x = -m[3], y = -m[2], z = -m[1];  // the rotor as a quaternion
   const Eigen::Vector3d t = translation(m);
   const double xx = x * x, yy = y * y, zz = z * z, xy = x * y, xz = x * z, yz = y * z;
@@ -62,31 +63,31 @@ SPINMOTOR_GA_INLINE Eigen::Vector3d transform(const Mot& m, const Eigen::Vector3
 }
 
 /// (real, dual) unit dual quaternion of a motor, dual = ½ t real.
-inline std::pair<Eigen::Quaterniond, Eigen::Quaterniond> to_dual_quaternion(const Mot& m) {
+[[nodiscard]] inline std::pair<Eigen::Quaterniond, Eigen::Quaterniond> to_dual_quaternion(const Mot& m) noexcept {
   return {to_quaterniond(rotor_part(m)), to_quaterniond(dual_part(m))};
 }
 
 /// The motor of a dual quaternion real + ε dual (inverse of to_dual_quaternion; not normalised).
-inline Mot from_dual_quaternion(const Eigen::Quaterniond& real, const Eigen::Quaterniond& dual) {
+[[nodiscard]] inline Mot from_dual_quaternion(const Eigen::Quaterniond& real, const Eigen::Quaterniond& dual) noexcept {
   return Mot(real.w(), -real.z(), -real.y(), -real.x(), -dual.x(), -dual.y(), -dual.z(), -dual.w());
 }
 
-/// The motor of a rigid motion x ↦ L x + t. Throws std::invalid_argument when L is not a rotation
+/// The motor of a rigid motion x ↦ L x + t. Throws spinmotor::Error when L is not a rotation
 /// (|LᵀL - I| > 1e-6 or det L ≤ 0) or an entry is not finite.
-inline Mot from_isometry(const Eigen::Isometry3d& iso) {
+[[nodiscard]] inline Mot from_isometry(const Eigen::Isometry3d& iso) {
   const Eigen::Matrix3d l = iso.linear();
   const Eigen::Vector3d t = iso.translation();
-  if (!l.allFinite() || !t.allFinite()) throw std::invalid_argument("ga::from_isometry: non-finite entry");
+  if (!l.allFinite() || !t.allFinite()) throw Error("ga::from_isometry: non-finite entry");
   const double orth = (l.transpose() * l - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
   if (orth > 1e-6 || l.determinant() <= 0.0)
-    throw std::invalid_argument("ga::from_isometry: the linear part is not a rotation (|LᵀL - I| = " +
+    throw Error("ga::from_isometry: the linear part is not a rotation (|LᵀL - I| = " +
                                 std::to_string(orth) + ", det = " + std::to_string(l.determinant()) + ")");
   const Quat r = from_quaterniond(Eigen::Quaterniond(l).normalized());
   return motor(r, translator(t));
 }
 
 /// The rigid motion of a motor (its rotor part is normalised first).
-inline Eigen::Isometry3d to_isometry(const Mot& m) {
+[[nodiscard]] inline Eigen::Isometry3d to_isometry(const Mot& m) {
   Eigen::Isometry3d iso = Eigen::Isometry3d::Identity();
   iso.linear() = to_quaterniond(rotor_part(m)).normalized().toRotationMatrix();
   iso.translation() = translation(m);

@@ -26,9 +26,9 @@
 // (see detail::log_kernel), no branch on the angle.
 #include <array>
 #include <cmath>
-#include <stdexcept>
 
 #include "spinmotor/ga/constructors.hpp"
+#include "spinmotor/core/error.hpp"
 
 namespace spinmotor::ga {
 
@@ -57,7 +57,7 @@ inline constexpr double kExpSeriesMax = 2.56;
 
 /// Σ_i c[first + 2i] y^i over i < sizeof...(I) + 1, by Horner's rule unrolled at compile time.
 template <std::size_t N, std::size_t... I>
-constexpr double horner2(const std::array<double, N>& c, std::size_t first, double y,
+[[nodiscard]] constexpr double horner2(const std::array<double, N>& c, std::size_t first, double y,
                          std::index_sequence<I...>) {
   constexpr std::size_t top = sizeof...(I);
   double acc = c[first + 2 * top];
@@ -67,7 +67,7 @@ constexpr double horner2(const std::array<double, N>& c, std::size_t first, doub
 
 /// c[0] + c[1] x + ... + c[N-1] x^(N-1) as two Horner chains in x² (half the latency of one).
 template <std::size_t N>
-constexpr double poly(const std::array<double, N>& c, double x) {
+[[nodiscard]] constexpr double poly(const std::array<double, N>& c, double x) {
   static_assert(N >= 2);
   const double x2 = x * x;
   return horner2(c, 0, x2, std::make_index_sequence<(N + 1) / 2 - 1>{}) +
@@ -96,14 +96,14 @@ inline void exp_coefficients(double x, double& cs, double& k, double& c2) {
 template <int L>
 using Lanes = Eigen::Array<double, L, 1>;
 
-inline double lane_sqrt(double x) { return std::sqrt(x); }
+[[nodiscard]] inline double lane_sqrt(double x) noexcept { return std::sqrt(x); }
 template <class T>
-SPINMOTOR_GA_INLINE auto lane_sqrt(const Eigen::ArrayBase<T>& x) {
+SPINMOTOR_GA_PURE auto lane_sqrt(const Eigen::ArrayBase<T>& x) noexcept {
   return x.sqrt().eval();
 }
-inline bool positive_finite(double x) { return x > 0.0 && std::isfinite(x); }
+[[nodiscard]] inline bool positive_finite(double x) noexcept { return x > 0.0 && std::isfinite(x); }
 template <class T>
-SPINMOTOR_GA_INLINE bool positive_finite(const Eigen::ArrayBase<T>& x) {
+SPINMOTOR_GA_PURE bool positive_finite(const Eigen::ArrayBase<T>& x) noexcept {
   return x.minCoeff() > 0.0 && std::isfinite(x.sum());  // a NaN or inf lane makes the sum non-finite
 }
 
@@ -116,7 +116,7 @@ SPINMOTOR_GA_INLINE bool positive_finite(const Eigen::ArrayBase<T>& x) {
 /// (Not std::atan2: it does not vectorise, and glibc's atan2 wrapper is legacy-SSE code whose AVX-SSE
 /// transition stalls made the log blend 4x slower.)
 template <class T>
-SPINMOTOR_GA_INLINE T atan_ratio(const T& t) {
+SPINMOTOR_GA_PURE T atan_ratio(const T& t) noexcept {
   constexpr double aT[11] = {
       3.33333333333329318027e-01,  -1.99999999998764832476e-01, 1.42857142725034663711e-01,
       -1.11111104054623557880e-01, 9.09088713343650656196e-02,  -7.69187620504482999495e-02,
@@ -130,7 +130,7 @@ SPINMOTOR_GA_INLINE T atan_ratio(const T& t) {
 }
 
 /// The generators (Dll order) of motors given by their 8 components (Mot order) with scalar part
-/// s = m[0] ≥ 0. Invariant to a positive scale of the motor. Throws std::domain_error when a rotor part
+/// s = m[0] ≥ 0. Invariant to a positive scale of the motor. Throws spinmotor::Error when a rotor part
 /// is zero or not finite. With ρ = |rotor part|, b = |β| and P = ρ + s ≥ ρ > 0, the half-angle tangents
 ///   tan(φ/2) = b / P,   t = tan(φ/4) = b / (P + sqrt(P² + b²)) ∈ [0, tan(π/8)]
 /// put φ = 4 atan(t) in the range of fdlibm's polynomial atan(t) = t (1 - S(t²)), and
@@ -142,7 +142,7 @@ SPINMOTOR_GA_INLINE void log_kernel(const T (&m)[8], T (&out)[6]) {
   const T b2 = m[1] * m[1] + m[2] * m[2] + m[3] * m[3];
   const T rho2 = m[0] * m[0] + b2;
   if (!positive_finite(rho2))
-    throw std::domain_error("ga::log: the motor's rotor part is zero or not finite");
+    throw Error("ga::log: the motor's rotor part is zero or not finite");
   const T p = lane_sqrt(rho2) + m[0];
   const T d = 1.0 / (p + lane_sqrt(p * p + b2));
   const T t = lane_sqrt(b2) * d;        // tan(φ/4)
@@ -162,18 +162,18 @@ SPINMOTOR_GA_INLINE void log_kernel(const T (&m)[8], T (&out)[6]) {
 
 /// The unit motor M / sqrt(M ~M): with M ~M = α + β I3 inf, M α^{-1/2} (1 - β/(2α) I3 inf). This is the
 /// dual-quaternion normalisation (rotor part unit, translation part made orthogonal to it).
-/// Throws std::domain_error when the rotor part is zero (or not finite).
-inline Mot normalize(const Mot& m) {
+/// Throws spinmotor::Error when the rotor part is zero (or not finite).
+[[nodiscard]] inline Mot normalize(const Mot& m) {
   const auto n = m * reverse(m);
   const double alpha = n.get<blade::s>(), beta = n.get<blade::e123ni>();
   if (!(alpha > 0.0) || !std::isfinite(alpha))
-    throw std::domain_error("ga::normalize: the motor's rotor part is zero or not finite");
+    throw Error("ga::normalize: the motor's rotor part is zero or not finite");
   const double a = 1.0 / std::sqrt(alpha);  // α^{-1/2}; β/(2α) α^{-1/2} = ½ β a³
   return m * MV<blade::s, blade::e123ni>{a, -0.5 * beta * (a * a * a)};
 }
 
 /// The motor exp(B) of a generator B = I3 ω + v∧inf, formula (E) above.
-inline Mot exp(const Dll& b) {
+[[nodiscard]] inline Mot exp(const Dll& b) noexcept {
   const double wz = b[0], wy = b[1], wx = b[2], vx = b[3], vy = b[4], vz = b[5];
   double cs, k, c2;
   detail::exp_coefficients(wx * wx + wy * wy + wz * wz, cs, k, c2);
@@ -182,9 +182,9 @@ inline Mot exp(const Dll& b) {
 }
 
 /// The logarithm of a motor: the generator B with exp(B) = ±M and rotation angle 2|ω| ≤ π (the short
-/// way round; M and -M give the same B). Invariant to a positive scale of M. Throws std::domain_error
+/// way round; M and -M give the same B). Invariant to a positive scale of M. Throws spinmotor::Error
 /// when the rotor part of M is zero (M is not a motor).
-inline Dll log(const Mot& m) {
+[[nodiscard]] inline Dll log(const Mot& m) {
   const double sg = std::copysign(1.0, m[0]);  // canonical sign: scalar part ≥ 0
   double in[8], out[6];
   for (std::size_t j = 0; j < 8; ++j) in[j] = sg * m[j];
@@ -194,25 +194,25 @@ inline Dll log(const Mot& m) {
 
 /// The square root of the motion: the unit motor S along the shortest screw with S S = M when
 /// <M>_0 ≥ 0 and S S = -M otherwise (the same motion). Dorst & Valkenburg: S = (1 + M)/|1 + M|.
-inline Mot sqrt(const Mot& m) {
+[[nodiscard]] inline Mot sqrt(const Mot& m) {
   Mot a = std::copysign(1.0, m[0]) * m;
   a[0] += 1.0;
   return normalize(a);
 }
 
 /// Screw linear interpolation a (~a b)^t along the shortest screw from a (t = 0) to ±b (t = 1).
-inline Mot sclerp(const Mot& a, const Mot& b, double t) { return a * exp(t * log(reverse(a) * b)); }
+[[nodiscard]] inline Mot sclerp(const Mot& a, const Mot& b, double t) { return a * exp(t * log(reverse(a) * b)); }
 
 /// Rotor exponential: exp(I3 ω) = cos|ω| + sinc|ω| I3 ω, the rotation by -2|ω| about ω̂.
-inline Rot exp(const Biv& b) {
+[[nodiscard]] inline Rot exp(const Biv& b) noexcept {
   double cs, k, c2;
   detail::exp_coefficients(b[0] * b[0] + b[1] * b[1] + b[2] * b[2], cs, k, c2);
   return cast<Rot>(Sca(cs) + k * b);
 }
 
-/// Rotor logarithm (short way round, sign canonicalised like the motor log). Throws std::domain_error
+/// Rotor logarithm (short way round, sign canonicalised like the motor log). Throws spinmotor::Error
 /// on a zero rotor.
-inline Biv log(const Rot& r) {
+[[nodiscard]] inline Biv log(const Rot& r) {
   const Dll b = log(Mot(r));
   return Biv(b[0], b[1], b[2]);
 }

@@ -39,7 +39,7 @@ constexpr std::uint32_t product_set(Op p, const std::array<Basis, NA>& a, const 
 }
 
 template <std::size_t NA, std::size_t NB>
-constexpr std::size_t product_count(Op p, const std::array<Basis, NA>& a, const std::array<Basis, NB>& b) {
+[[nodiscard]] constexpr std::size_t product_count(Op p, const std::array<Basis, NA>& a, const std::array<Basis, NB>& b) {
   std::size_t n = 0;
   for (std::size_t i = 0; i < NA; ++i)
     for (std::size_t j = 0; j < NB; ++j)
@@ -83,7 +83,7 @@ struct product_table<P, MV<A...>, MV<B...>> {
 };
 
 template <class R, class X, class Y>
-SPINMOTOR_GA_INLINE constexpr void step(R& r, const X& x, const Y& y, Entry e) {
+SPINMOTOR_GA_PURE constexpr void step(R& r, const X& x, const Y& y, Entry e) noexcept {
   const double v = x.c[e.i] * y.c[e.j];
   if (e.first) {
     r.c[e.k] = e.neg ? -v : v;
@@ -95,14 +95,14 @@ SPINMOTOR_GA_INLINE constexpr void step(R& r, const X& x, const Y& y, Entry e) {
 }
 
 template <class T, class X, class Y, std::size_t... t>
-SPINMOTOR_GA_INLINE constexpr typename T::R run_terms(const X& x, const Y& y, std::index_sequence<t...>) {
+SPINMOTOR_GA_PURE constexpr typename T::R run_terms(const X& x, const Y& y, std::index_sequence<t...>) noexcept {
   typename T::R r;
   (step(r, x, y, T::entries[t]), ...);
   return r;
 }
 
 template <Op P, Basis... A, Basis... B>
-SPINMOTOR_GA_INLINE constexpr auto product(const MV<A...>& x, const MV<B...>& y) {
+SPINMOTOR_GA_PURE constexpr auto product(const MV<A...>& x, const MV<B...>& y) noexcept {
   using T = product_table<P, MV<A...>, MV<B...>>;
   return run_terms<T>(x, y, std::make_index_sequence<T::count>{});
 }
@@ -119,25 +119,25 @@ struct ConjugateSign {  // (-1)^{k(k+1)/2}
 
 /// Each coefficient times S::of(grade of its blade) (a compile-time ±1) times s.
 template <class S, Basis... A, std::size_t... i>
-SPINMOTOR_GA_INLINE constexpr MV<A...> grade_signs(const MV<A...>& a, double s, std::index_sequence<i...>) {
+SPINMOTOR_GA_PURE constexpr MV<A...> grade_signs(const MV<A...>& a, double s, std::index_sequence<i...>) noexcept {
   MV<A...> r;
   ((r.c[i] = S::of(grade_of(mask_of(MV<A...>::basis[i]))) * (s * a.c[i])), ...);
   return r;
 }
 template <class S, Basis... A>
-SPINMOTOR_GA_INLINE constexpr MV<A...> grade_signs(const MV<A...>& a) {
+SPINMOTOR_GA_PURE constexpr MV<A...> grade_signs(const MV<A...>& a) noexcept {
   return grade_signs<S>(a, 1.0, std::make_index_sequence<sizeof...(A)>{});
 }
 struct NoSign {
   static constexpr double of(int) { return 1.0; }
 };
 template <Basis... A>
-SPINMOTOR_GA_INLINE constexpr MV<A...> scaled(const MV<A...>& a, double s) {
+SPINMOTOR_GA_PURE constexpr MV<A...> scaled(const MV<A...>& a, double s) noexcept {
   return grade_signs<NoSign>(a, s, std::make_index_sequence<sizeof...(A)>{});
 }
 
 template <Basis X, class A, class B>
-SPINMOTOR_GA_INLINE constexpr double sum_coef(const A& a, const B& b, double sb) {
+SPINMOTOR_GA_PURE constexpr double sum_coef(const A& a, const B& b, double sb) noexcept {
   if constexpr (A::index_of(mask_of(X)) < 0) {
     return sb * b.template get<X>();
   } else if constexpr (B::index_of(mask_of(X)) < 0) {
@@ -148,19 +148,19 @@ SPINMOTOR_GA_INLINE constexpr double sum_coef(const A& a, const B& b, double sb)
 }
 
 template <class R, Basis... A, Basis... B, std::size_t... k>
-SPINMOTOR_GA_INLINE constexpr R sum(const MV<A...>& a, const MV<B...>& b, double sb,
+SPINMOTOR_GA_PURE constexpr R sum(const MV<A...>& a, const MV<B...>& b, double sb,
                                     std::index_sequence<k...>) {
   R r;
   ((r.c[k] = sum_coef<R::basis[k]>(a, b, sb)), ...);
   return r;
 }
 template <class R, Basis... A, Basis... B>
-SPINMOTOR_GA_INLINE constexpr R sum(const MV<A...>& a, const MV<B...>& b, double sb) {
+SPINMOTOR_GA_PURE constexpr R sum(const MV<A...>& a, const MV<B...>& b, double sb) noexcept {
   return sum<R>(a, b, sb, std::make_index_sequence<R::size>{});
 }
 
 template <class T, Basis... A, std::size_t... k>
-SPINMOTOR_GA_INLINE constexpr T cast_impl(const MV<A...>& a, std::index_sequence<k...>) {
+SPINMOTOR_GA_PURE constexpr T cast_impl(const MV<A...>& a, std::index_sequence<k...>) noexcept {
   T r;
   ((r.c[k] = a.template get<T::basis[k]>()), ...);
   return r;
@@ -180,64 +180,64 @@ constexpr std::uint32_t grade_subset(std::uint32_t set) {
 
 /// Geometric product.
 template <Basis... A, Basis... B>
-SPINMOTOR_GA_INLINE constexpr auto gp(const MV<A...>& a, const MV<B...>& b) {
+SPINMOTOR_GA_PURE constexpr auto gp(const MV<A...>& a, const MV<B...>& b) noexcept {
   return detail::product<detail::Op::Geometric>(a, b);
 }
 /// Outer (wedge) product.
 template <Basis... A, Basis... B>
-SPINMOTOR_GA_INLINE constexpr auto op(const MV<A...>& a, const MV<B...>& b) {
+SPINMOTOR_GA_PURE constexpr auto op(const MV<A...>& a, const MV<B...>& b) noexcept {
   return detail::product<detail::Op::Outer>(a, b);
 }
 /// Left contraction a⌋b (Dorst): the grade |b|-|a| part of a b for blades.
 template <Basis... A, Basis... B>
-SPINMOTOR_GA_INLINE constexpr auto lc(const MV<A...>& a, const MV<B...>& b) {
+SPINMOTOR_GA_PURE constexpr auto lc(const MV<A...>& a, const MV<B...>& b) noexcept {
   return detail::product<detail::Op::LeftContraction>(a, b);
 }
 /// Right contraction a⌊b: the grade |a|-|b| part of a b for blades.
 template <Basis... A, Basis... B>
-SPINMOTOR_GA_INLINE constexpr auto rc(const MV<A...>& a, const MV<B...>& b) {
+SPINMOTOR_GA_PURE constexpr auto rc(const MV<A...>& a, const MV<B...>& b) noexcept {
   return detail::product<detail::Op::RightContraction>(a, b);
 }
 /// Scalar product <a b>_0.
 template <Basis... A, Basis... B>
-SPINMOTOR_GA_INLINE constexpr double scalar(const MV<A...>& a, const MV<B...>& b) {
+SPINMOTOR_GA_PURE constexpr double scalar(const MV<A...>& a, const MV<B...>& b) noexcept {
   return detail::product<detail::Op::Scalar>(a, b).template get<blade::s>();
 }
 
 template <Basis... A, Basis... B>
-SPINMOTOR_GA_INLINE constexpr auto operator*(const MV<A...>& a, const MV<B...>& b) {
+SPINMOTOR_GA_PURE constexpr auto operator*(const MV<A...>& a, const MV<B...>& b) noexcept {
   return gp(a, b);
 }
 /// Outer product. Mind C++ precedence: ^ binds weaker than + and ==, so write (a ^ b).
 template <Basis... A, Basis... B>
-SPINMOTOR_GA_INLINE constexpr auto operator^(const MV<A...>& a, const MV<B...>& b) {
+SPINMOTOR_GA_PURE constexpr auto operator^(const MV<A...>& a, const MV<B...>& b) noexcept {
   return op(a, b);
 }
 
 // ---- linear operations --------------------------------------------------------------------------------
 
 template <Basis... A, Basis... B>
-SPINMOTOR_GA_INLINE constexpr auto operator+(const MV<A...>& a, const MV<B...>& b) {
+SPINMOTOR_GA_PURE constexpr auto operator+(const MV<A...>& a, const MV<B...>& b) noexcept {
   return detail::sum<canonical_t<MV<A...>::blade_set | MV<B...>::blade_set>>(a, b, 1.0);
 }
 template <Basis... A, Basis... B>
-SPINMOTOR_GA_INLINE constexpr auto operator-(const MV<A...>& a, const MV<B...>& b) {
+SPINMOTOR_GA_PURE constexpr auto operator-(const MV<A...>& a, const MV<B...>& b) noexcept {
   return detail::sum<canonical_t<MV<A...>::blade_set | MV<B...>::blade_set>>(a, b, -1.0);
 }
 template <Basis... A>
-SPINMOTOR_GA_INLINE constexpr MV<A...> operator-(const MV<A...>& a) {
+SPINMOTOR_GA_PURE constexpr MV<A...> operator-(const MV<A...>& a) noexcept {
   return detail::scaled(a, -1.0);
 }
 template <Basis... A>
-SPINMOTOR_GA_INLINE constexpr MV<A...> operator*(double s, const MV<A...>& a) {
+SPINMOTOR_GA_PURE constexpr MV<A...> operator*(double s, const MV<A...>& a) noexcept {
   return detail::scaled(a, s);
 }
 template <Basis... A>
-SPINMOTOR_GA_INLINE constexpr MV<A...> operator*(const MV<A...>& a, double s) {
+SPINMOTOR_GA_PURE constexpr MV<A...> operator*(const MV<A...>& a, double s) noexcept {
   return s * a;
 }
 template <Basis... A>
-SPINMOTOR_GA_INLINE constexpr MV<A...> operator/(const MV<A...>& a, double s) {
+SPINMOTOR_GA_PURE constexpr MV<A...> operator/(const MV<A...>& a, double s) noexcept {
   return (1.0 / s) * a;
 }
 /// a += b, for b whose blades are among a's.
@@ -252,23 +252,23 @@ requires((MV<B...>::blade_set & ~MV<A...>::blade_set) == 0) constexpr MV<A...>& 
   return a = detail::sum<MV<A...>>(a, b, -1.0);
 }
 template <Basis... A>
-SPINMOTOR_GA_INLINE constexpr MV<A...>& operator*=(MV<A...>& a, double s) {
+SPINMOTOR_GA_PURE constexpr MV<A...>& operator*=(MV<A...>& a, double s) noexcept {
   return a = s * a;
 }
 template <Basis... A>
-SPINMOTOR_GA_INLINE constexpr bool operator==(const MV<A...>& a, const MV<A...>& b) {
+SPINMOTOR_GA_PURE constexpr bool operator==(const MV<A...>& a, const MV<A...>& b) noexcept {
   return a.c == b.c;
 }
 
 /// Projection onto the blades of T (blades T lacks are dropped, blades a lacks are zero).
 template <class T, Basis... A>
-SPINMOTOR_GA_INLINE constexpr T cast(const MV<A...>& a) {
+SPINMOTOR_GA_PURE constexpr T cast(const MV<A...>& a) noexcept {
   return detail::cast_impl<T>(a, std::make_index_sequence<T::size>{});
 }
 
 /// The grade-K part.
 template <int K, Basis... A>
-SPINMOTOR_GA_INLINE constexpr auto grade(const MV<A...>& a) {
+SPINMOTOR_GA_PURE constexpr auto grade(const MV<A...>& a) noexcept {
   return cast<canonical_t<detail::grade_subset<K>(MV<A...>::blade_set)>>(a);
 }
 
@@ -276,38 +276,38 @@ SPINMOTOR_GA_INLINE constexpr auto grade(const MV<A...>& a) {
 
 /// Reverse ~a: each k-blade times (-1)^{k(k-1)/2}. For a rotor this is the quaternion conjugate.
 template <Basis... A>
-SPINMOTOR_GA_INLINE constexpr MV<A...> reverse(const MV<A...>& a) {
+SPINMOTOR_GA_PURE constexpr MV<A...> reverse(const MV<A...>& a) noexcept {
   return detail::grade_signs<detail::ReverseSign>(a);
 }
 template <Basis... A>
-SPINMOTOR_GA_INLINE constexpr MV<A...> operator~(const MV<A...>& a) {
+SPINMOTOR_GA_PURE constexpr MV<A...> operator~(const MV<A...>& a) noexcept {
   return reverse(a);
 }
 /// Grade involution: each k-blade times (-1)^k.
 template <Basis... A>
-SPINMOTOR_GA_INLINE constexpr MV<A...> involute(const MV<A...>& a) {
+SPINMOTOR_GA_PURE constexpr MV<A...> involute(const MV<A...>& a) noexcept {
   return detail::grade_signs<detail::InvoluteSign>(a);
 }
 /// Clifford conjugate (reverse of the grade involution): each k-blade times (-1)^{k(k+1)/2}.
 template <Basis... A>
-SPINMOTOR_GA_INLINE constexpr MV<A...> conjugate(const MV<A...>& a) {
+SPINMOTOR_GA_PURE constexpr MV<A...> conjugate(const MV<A...>& a) noexcept {
   return detail::grade_signs<detail::ConjugateSign>(a);
 }
 
 /// Dual a* = a I⁻¹ = -a I with I = o∧e1∧e2∧e3∧inf (I² = -1).
 template <Basis... A>
-SPINMOTOR_GA_INLINE constexpr auto dual(const MV<A...>& a) {
+SPINMOTOR_GA_PURE constexpr auto dual(const MV<A...>& a) noexcept {
   return gp(a, Pss{-1.0});
 }
 /// Undual: the inverse of dual, a I.
 template <Basis... A>
-SPINMOTOR_GA_INLINE constexpr auto undual(const MV<A...>& a) {
+SPINMOTOR_GA_PURE constexpr auto undual(const MV<A...>& a) noexcept {
   return gp(a, Pss{1.0});
 }
 
 /// Signed squared norm <a ~a>_0 (zero for null vectors, negative for imaginary spheres).
 template <Basis... A>
-SPINMOTOR_GA_INLINE constexpr double norm2(const MV<A...>& a) {
+SPINMOTOR_GA_PURE constexpr double norm2(const MV<A...>& a) noexcept {
   return scalar(a, reverse(a));
 }
 /// sqrt(|<a ~a>_0|).
@@ -319,7 +319,7 @@ double norm(const MV<A...>& a) {
 /// Inverse of a versor or blade: ~a / (a ~a). For a motor, a ~a = α + β e123∞ is not a scalar when
 /// the motor is not normalised, and (α + β e123∞)⁻¹ = (1 - (β/α) e123∞)/α is used.
 template <Basis... A>
-SPINMOTOR_GA_INLINE constexpr MV<A...> inverse(const MV<A...>& a) {
+SPINMOTOR_GA_PURE constexpr MV<A...> inverse(const MV<A...>& a) noexcept {
   if constexpr (std::is_same_v<MV<A...>, Mot>) {
     const auto n = a * reverse(a);
     const double alpha = n.template get<blade::s>(), beta = n.template get<blade::e123ni>();

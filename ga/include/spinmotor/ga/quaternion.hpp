@@ -18,22 +18,22 @@ namespace spinmotor::ga {
 using Quat = Rot;
 
 /// The imaginary quaternion v.x i + v.y j + v.z k.
-inline Quat imaginary(const Eigen::Vector3d& v) { return Quat(0.0, v.x(), v.y(), v.z()); }
+[[nodiscard]] inline Quat imaginary(const Eigen::Vector3d& v) noexcept { return Quat(0.0, v.x(), v.y(), v.z()); }
 
 /// Quaternion conjugate w - x i - y j - z k (the reverse).
-inline Quat conj(const Quat& q) { return reverse(q); }
+[[nodiscard]] inline Quat conj(const Quat& q) noexcept { return reverse(q); }
 
 /// From Eigen's (w, x, y, z) quaternion; the component order is the same.
-inline Quat from_quaterniond(const Eigen::Quaterniond& q) { return Quat(q.w(), q.x(), q.y(), q.z()); }
+[[nodiscard]] inline Quat from_quaterniond(const Eigen::Quaterniond& q) noexcept { return Quat(q.w(), q.x(), q.y(), q.z()); }
 
 /// To Eigen's quaternion (not normalised).
-inline Eigen::Quaterniond to_quaterniond(const Quat& q) {
+[[nodiscard]] inline Eigen::Quaterniond to_quaterniond(const Quat& q) noexcept {
   return Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z());
 }
 
 /// Rotate a vector by a unit quaternion: q v q̄ = R v ~R (no matrix; Eigen's formula
 /// v + 2w (r×v) + 2 r×(r×v) with r the imaginary part).
-inline Eigen::Vector3d rotate(const Quat& q, const Eigen::Vector3d& v) {
+[[nodiscard]] inline Eigen::Vector3d rotate(const Quat& q, const Eigen::Vector3d& v) {
   const Eigen::Vector3d r = q.vec();
   const Eigen::Vector3d uv = 2.0 * r.cross(v);
   return v + q.w() * uv + r.cross(uv);

@@ -1,9 +1,10 @@
 #pragma once
 // Deformer types of scene files, keyed by the `deformer.type` string.
 //
-// A scene deformer wraps a library deformer (deform/deformer.hpp contract): its bind function reads
-// the scene's `deformer` block (and handles, `ik`, ...), does all precomputation and returns an object
-// whose pose() is the per-frame work. Adding a type (ffd, cage, arap, skin) is:
+// A scene deformer is a library deformer behind the one deformer shape (deform/deformer.hpp: bind,
+// controls, pose), held as an AnyDeformer, plus what the scene reports about it. Each type's bind
+// function reads the scene's `deformer` block (option values through their name tables, defaults from
+// the library's Options), builds the Rig (handles, cage, skeleton, ik) and binds. Adding a type is:
 //   1. a definition "deformer_<type>" for its keys in scene.schema.json (listed in definitions/deformer),
 //   2. a file scene/src/deformer_<type>.cpp defining
 //        std::unique_ptr<SceneDeformer> bind_<type>(const Scene& scene);
@@ -11,6 +12,7 @@
 //   3. one line in the table of scene/src/deformer_registry.cpp (and its declaration above it).
 // Sources in scene/src/ are globbed (re-run cmake after adding one).
 #include <Eigen/Core>
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -18,31 +20,62 @@
 #include <string>
 #include <vector>
 
+#include "spinmotor/core/option_names.hpp"
+#include "spinmotor/deform/any_deformer.hpp"
 #include "spinmotor/scene/scene.hpp"
 
 namespace spinmotor::scene {
 
+/// A bound deformer of a scene: the library deformer and the scene's view of it.
 class SceneDeformer {
 public:
-  virtual ~SceneDeformer() = default;
-  /// The names a pose may give motors for (handles, keys, control points). A pose entry with any other
-  /// name is an error naming its JSON path.
-  virtual std::vector<std::string> controls() const = 0;
-  /// Per-frame work: V_out (n×3) from the frame's motors.
-  virtual void pose(const Pose& pose, Eigen::MatrixXd& V_out) = 0;
+  /// Per-frame figures merged into the metrics JSON (e.g. "arap", "ik"); gets the frame's motors.
+  using Report = std::function<nlohmann::json(const AnyDeformer&, std::span<const ga::Mot>, const Eigen::MatrixXd&)>;
+  /// The motors of a pose, in control order. Default: by control name, identity when absent.
+  using Motors = std::function<void(const Pose&, std::vector<ga::Mot>&)>;
+
+  SceneDeformer(const Scene& scene, AnyDeformer deformer, Report report = {}, nlohmann::json bind_report = {},
+                Motors motors = {});
+
+  const AnyDeformer& deformer() const { return d_; }
+  AnyDeformer& deformer() { return d_; }
+  /// The controls (name + rest anchor) in pose order.
+  const std::vector<Control>& controls() const { return d_.controls(); }
+  /// The names a pose may give motors for. A pose entry with any other name is an error naming its
+  /// JSON path (run.cpp).
+  std::vector<std::string> control_names() const;
+  /// The rest point a control moves (where an interactive tool draws its gizmo), or nothing for an
+  /// unknown name.
+  std::optional<Eigen::Vector3d> control_anchor(const std::string& control) const;
+  /// Per-frame work: V_out (n×3) from the frame's motors. Errors are prefixed with the scene's name.
+  void pose(const Pose& pose, Eigen::MatrixXd& V_out);
   /// Per-frame figures merged into the metrics JSON, at least "max_handle_error" (max distance of a
   /// handle vertex from where its own motor takes it; null when the deformer has no such notion).
-  virtual nlohmann::json report(const Pose& pose, const Eigen::MatrixXd& V_out) const = 0;
-  /// Figures of bind() merged into the metrics JSON (e.g. the IK solve and fit). Default: none.
-  virtual nlohmann::json bind_report() const { return nlohmann::json::object(); }
-  /// The rest point a control moves: the point its motor carries, where an interactive tool draws
-  /// its gizmo (a lattice point, a cage vertex, a bone head, a spline key's place between the end
-  /// handles, the IK target). Nothing when the control is a handle (its centroid is the natural
-  /// anchor and the caller has the vertices) or unknown. Default: nothing.
-  virtual std::optional<Eigen::Vector3d> control_anchor(const std::string& /*control*/) const {
-    return std::nullopt;
-  }
+  nlohmann::json report(const Pose& pose, const Eigen::MatrixXd& V_out) const;
+  /// Figures of bind() merged into the metrics JSON (e.g. the IK solve and fit, ARAP's factorization).
+  nlohmann::json bind_report() const;
+
+private:
+  const Scene& scene_;
+  AnyDeformer d_;
+  Report report_;
+  nlohmann::json bind_report_;
+  Motors motors_of_;
+  std::vector<ga::Mot> motors_;
 };
+
+/// The value of the option `key` of the scene's deformer block, parsed by its name table, or
+/// `fallback` (the library Options' default) when the key is absent. An unknown name throws the
+/// scene's error at /deformer/<key>.
+template <class E>
+E deformer_option(const Scene& s, const char* key, E fallback) {
+  if (!s.deformer.contains(key)) return fallback;
+  try {
+    return parse_option<E>(s.deformer[key].get<std::string>());
+  } catch (const Error& e) {
+    throw s.error(std::string("/deformer/") + key, e.what());
+  }
+}
 
 using BindFunction = std::unique_ptr<SceneDeformer> (*)(const Scene& scene);
 
@@ -57,8 +90,7 @@ std::span<const DeformerType> deformer_types();
 /// Binds the scene's deformer: Error at /deformer/type if the type is not available in this build.
 std::unique_ptr<SceneDeformer> bind_deformer(const Scene& scene);
 
-/// Max distance of the vertices of `handles[j]` from motors[j] applied to their rest positions
-/// (a helper for report()).
+/// Max distance of the vertices of `handles[j]` from motors[j] applied to their rest positions.
 double max_handle_error(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V, std::span<const Handle> handles,
                         std::span<const ga::Mot> motors);
 

@@ -5,6 +5,7 @@
 // patterns", eqs. 40–42).
 #include <Eigen/Core>
 #include <string>
+#include "spinmotor/core/option_names.hpp"
 
 namespace spinmotor {
 
@@ -38,10 +39,12 @@ enum class Alignment {
   Similarity,   ///< best rotation + uniform scale + translation (Umeyama)
 };
 
-/// Parses "none" / "translation" / "rigid" / "similarity"; throws Error naming the bad word.
-Alignment parse_alignment(const std::string& name);
-/// The inverse of parse_alignment.
-const char* to_string(Alignment a);
+inline constexpr OptionNames<Alignment, 4> kAlignmentNames{"alignment",
+                                                           {{{Alignment::None, "none"},
+                                                             {Alignment::Translation, "translation"},
+                                                             {Alignment::Rigid, "rigid"},
+                                                             {Alignment::Similarity, "similarity"}}}};
+constexpr const auto& option_names(Alignment) { return kAlignmentNames; }
 
 /// Per-vertex distances |T(V_def_i) − V_rest_i| after aligning V_def onto V_rest with the chosen T.
 struct VertexDistances {

@@ -36,7 +36,7 @@ inline void to_json(nlohmann::json& j, const DeformationMetrics& m) {
                      {"rms", finite_or_null(m.rms)},
                      {"max", finite_or_null(m.max)},
                      {"diagonal", finite_or_null(m.diagonal)},
-                     {"alignment", to_string(m.alignment)},
+                     {"alignment", std::string(option_name(m.alignment))},
                      {"alignment_scale", finite_or_null(m.transform.scale)}};
   if (m.willmore_rest) j["willmore_rest"] = finite_or_null(*m.willmore_rest);
   if (m.willmore_deformed) j["willmore_deformed"] = finite_or_null(*m.willmore_deformed);
