@@ -10,7 +10,7 @@
 //                             default ordering) analyze + factorize + solve vs Eigen::SimplicialLDLT
 //                             compute + solve (1M: baseline with SPINMOTOR_BENCH_FULL=1). Counters: *_analyze_ms, *_factor_ms, *_solve_ms,
 //                             *_total_ms, speedup = base_total/ours_total, rel_diff of the solutions.
-//   cholesky_ordering/<ord>/<kind>/<size>   the ordering study (DESIGN.md: choose the ordering
+//   cholesky_ordering/<ord>/<kind>/<size>   the ordering study (docs/design.md: choose the ordering
 //                             deliberately): AMD, METIS, NESDIS × supernodal/simplicial on 100k (and
 //                             AMD/METIS supernodal on 1M): analyze, factorize (refactorize with the same
 //                             pattern), solve, nnz(L), flops. No baseline: compare the rows.

@@ -1,7 +1,7 @@
 // pose_handles: handle-based posing with motors (CGA paper §IV), then the conformal snap (Crane et al.
 // 2011 §7.2) of the pose.
 //
-// Spot (../shared/meshes/spot.obj, textured) gets five vertex handles selected by boxes: the body and
+// Spot (spot.obj of the shared meshes folder, textured) gets five vertex handles selected by boxes: the body and
 // three feet stay, the head turns 45° about the vertical axis through the neck and the front right leg
 // lifts (rotated 35° about the hip's x axis). Surface harmonic coordinates (mean-value weights, SuperLU)
 // blend the handle motors per vertex (log blend). The pose is then snapped onto its nearest spin

@@ -105,7 +105,7 @@ const spinmotor::cli::RegisterCommand reg{
       sub.add_flag("-q,--quiet", args->quiet, "Print nothing but errors: the exit code says whether the mesh has defects");
       sub.footer(
           "Examples:\n"
-          "  spinmotor check ../shared/meshes/spot.obj\n"
+          "  spinmotor check spot.obj\n"
           "  spinmotor check scan.ply --json > report.json\n"
           "  for f in *.obj; do spinmotor check -q \"$f\" || echo \"$f\"; done   # list the meshes with defects");
       sub.callback([args] {

@@ -1,4 +1,4 @@
-// `spinmotor deform SCENE.json`: run a scene file (SCENE.md) — load and validate it, bind its deformer,
+// `spinmotor deform SCENE.json`: run a scene file (docs/scene.md) — load and validate it, bind its deformer,
 // pose every frame, write the outputs atomically, print a summary.
 // Exit codes (main.cpp): 0 ok, 2 bad scene (the message names the JSON path), 3 numerical failure.
 #include <cstdio>
@@ -80,7 +80,7 @@ const spinmotor::cli::RegisterCommand reg{
     "deform", "Run a scene file: deform a mesh with motor handles and write the posed mesh and its metrics",
     [](CLI::App& sub) {
       auto a = std::make_shared<DeformArgs>();
-      sub.add_option("scene", a->scene, "Scene file (JSON, see SCENE.md)");
+      sub.add_option("scene", a->scene, "Scene file (JSON, see docs/scene.md)");
       sub.add_option("--out-dir", a->out_dir, "Resolve relative output paths against DIR instead of the scene's folder");
       sub.add_flag("--json", a->json, "Print the metrics as JSON on stdout (an array for animations)");
       sub.add_flag("--quiet,-q", a->quiet, "Print nothing but warnings and errors");

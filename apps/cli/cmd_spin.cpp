@@ -63,7 +63,7 @@ const cli::RegisterCommand reg{
       sub.add_flag("-q,--quiet", a->quiet, "Print nothing unless --json");
       sub.footer(
           "Examples:\n"
-          "  spinmotor spin ../shared/meshes/spinxform/sphere.obj --rho-image ../shared/meshes/spinxform/bumpy.tga --out bumpy.obj\n"
+          "  spinmotor spin sphere.obj --rho-image bumpy.tga --out bumpy.obj\n"
           "  spinmotor spin capsule.obj --rho-expr \"0.5*exp(-20*(z-1)^2)\" --out bulge.obj --json\n"
           "  spinmotor spin sphere.obj --rho-faces rho.txt --out out.obj --spinxform   # the reference code's settings");
       sub.add_option("--rho-scale", a->rho_scale, "Image mode: rho of a white pixel")->capture_default_str();

@@ -1,4 +1,5 @@
 #include "spinmotor/deform/ffd.hpp"
+#include "spinmotor/deform/spline_basis.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -17,37 +18,10 @@ using A8 = Eigen::Array<double, 8, 1>;
 using A4 = Eigen::Array<double, 4, 1>;
 
 /// Clamped uniform knot vector of `count` controls, degree d: d+1 zeros, i/(count−d), d+1 ones.
-double knot(int j, int count, int d) {
-  if (j <= d) return 0.0;
-  if (j >= count) return 1.0;
-  return static_cast<double>(j - d) / (count - d);
-}
-
-/// The d+1 non-zero B-spline basis functions at u ∈ [0, 1] (Cox–de Boor, Piegl & Tiller A2.2) into
-/// N[0..d]; returns the index of the first one.
-int basis_functions(double u, int count, int d, double* N) {
-  int span = d + static_cast<int>(std::floor(u * (count - d)));
-  span = std::clamp(span, d, count - 1);
-  double left[32], right[32];
-  N[0] = 1.0;
-  for (int j = 1; j <= d; ++j) {
-    left[j] = u - knot(span + 1 - j, count, d);
-    right[j] = knot(span + j, count, d) - u;
-    double saved = 0.0;
-    for (int r = 0; r < j; ++r) {
-      const double temp = N[r] / (right[r + 1] + left[j - r]);
-      N[r] = saved + right[r + 1] * temp;
-      saved = left[j - r] * temp;
-    }
-    N[j] = saved;
-  }
-  return span - d;
-}
-
 /// Greville abscissa of control a: the mean of knots a+1 .. a+d.
 double greville(int a, int count, int d) {
   double s = 0.0;
-  for (int j = a + 1; j <= a + d; ++j) s += knot(j, count, d);
+  for (int j = a + 1; j <= a + d; ++j) s += clamped_knot(j, count, d);
   return s / d;
 }
 
@@ -205,7 +179,7 @@ FfdDeformer FfdDeformer::bind(const Eigen::MatrixXd& V, const Options& options) 
     double* b = f.basis_.data() + i * stride;
     std::array<int, 3> arg{};
     for (int a = 0; a < 3; ++a) {
-      f.start_[i][a] = basis_functions(s[a], f.dims_[a], f.order_[a] - 1, b);
+      f.start_[i][a] = bspline_nonzero(f.dims_[a], f.order_[a] - 1, s[a], b);
       int best = 0;
       for (int r = 1; r < f.order_[a]; ++r) best = b[r] > b[best] ? r : best;
       arg[a] = f.start_[i][a] + best;

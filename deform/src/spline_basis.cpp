@@ -45,24 +45,31 @@ void check_spline(SplineBasis basis, int keys, int degree) {
 
 namespace {
 
-/// Knot i of the clamped uniform knot vector of n control points and degree d.
-inline double knot(int i, int n, int d) {
-  if (i <= d) return 0.0;
-  if (i >= n) return 1.0;
-  return static_cast<double>(i - d) / (n - d);
-}
-
-/// Cox–de Boor (Piegl & Tiller, The NURBS Book, A2.2): the d+1 non-zero basis functions at t.
+/// The basis functions of all n controls at t (zero outside the d + 1 supporting ones).
 void bspline(int n, int d, double t, double* w) {
   std::fill(w, w + n, 0.0);
+  double N[32];
+  const int first = bspline_nonzero(n, d, t, N);
+  for (int r = 0; r <= d; ++r) w[first + r] = N[r];
+}
+
+}  // namespace
+
+double clamped_knot(int j, int n, int d) noexcept {
+  if (j <= d) return 0.0;
+  if (j >= n) return 1.0;
+  return static_cast<double>(j - d) / (n - d);
+}
+
+int bspline_nonzero(int n, int d, double t, double* N) noexcept {
   // Span k with U[k] ≤ t < U[k+1], k ∈ [d, n−1]; t = 1 belongs to the last span.
   int k = t >= 1.0 ? n - 1 : d + static_cast<int>(std::floor(t * (n - d)));
   k = std::clamp(k, d, n - 1);
-  double N[16], left[16], right[16];
+  double left[32], right[32];
   N[0] = 1.0;
   for (int j = 1; j <= d; ++j) {
-    left[j] = t - knot(k + 1 - j, n, d);
-    right[j] = knot(k + j, n, d) - t;
+    left[j] = t - clamped_knot(k + 1 - j, n, d);
+    right[j] = clamped_knot(k + j, n, d) - t;
     double saved = 0.0;
     for (int r = 0; r < j; ++r) {
       const double tmp = N[r] / (right[r + 1] + left[j - r]);
@@ -71,10 +78,8 @@ void bspline(int n, int d, double t, double* w) {
     }
     N[j] = saved;
   }
-  for (int r = 0; r <= d; ++r) w[k - d + r] = N[r];
+  return k - d;
 }
-
-}  // namespace
 
 void spline_weights(SplineBasis basis, int n, int degree, double lambda, double* w) {
   const double t = std::clamp(lambda, 0.0, 1.0);

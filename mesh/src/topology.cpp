@@ -4,25 +4,12 @@
 #include <array>
 #include <cstdint>
 #include <numeric>
+#include "union_find.hpp"
 
 namespace spinmotor {
 namespace {
 
-struct UnionFind {
-  std::vector<int> parent;
-  explicit UnionFind(Eigen::Index n) : parent(static_cast<size_t>(n)) {
-    std::iota(parent.begin(), parent.end(), 0);
-  }
-  int find(int i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  }
-  void unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
+using detail::UnionFind;
 
 }  // namespace
 
@@ -76,7 +63,7 @@ EdgeTopology edge_topology(const Eigen::MatrixXi& F) {
 }
 
 Eigen::VectorXi vertex_components(const Eigen::MatrixXi& F, Eigen::Index n, int* count) {
-  UnionFind uf(n);
+  UnionFind uf(static_cast<std::size_t>(n));
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     uf.unite(F(f, 0), F(f, 1));
     uf.unite(F(f, 0), F(f, 2));

@@ -9,23 +9,12 @@
 
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/topology.hpp"
+#include "union_find.hpp"
 
 namespace spinmotor {
 namespace {
 
-struct UnionFind {
-  std::vector<int> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  }
-  void unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
+using detail::UnionFind;
 
 std::string plural(Eigen::Index n, const char* one, const char* many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);

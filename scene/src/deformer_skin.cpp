@@ -3,8 +3,8 @@
 //    "joint_fraction": f}
 // Defaults: harmonic weights (bone_harmonic_weights with joint_fraction, default 0.25), the blend of
 // SkinDeformer::Options (dlb). A pose entry
-// is the world-space motion of its bone; a bone without an entry keeps its parent's (SCENE.md).
-// Weight files (relative to the scene file): "*.json" is SCENE.md's {"bones": [names], "weights": [[w per
+// is the world-space motion of its bone; a bone without an entry keeps its parent's (docs/scene.md).
+// Weight files (relative to the scene file): "*.json" is docs/scene.md's {"bones": [names], "weights": [[w per
 // bone] per vertex]} (errors name the file and the JSON pointer); any other extension is the text format
 // of read_skin_weights (errors name file:line).
 #include <fstream>

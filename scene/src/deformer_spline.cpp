@@ -41,8 +41,8 @@ Eigen::MatrixXd points(const json& a) {
 class PosedChainSpline {
 public:
   struct Options {
-    SplineDeformer::Options spline;
-    Eigen::MatrixXd rest_chain, posed_chain;
+    SplineDeformer::Options spline{};
+    Eigen::MatrixXd rest_chain{}, posed_chain{};
   };
   static PosedChainSpline bind(const Mesh& rest, const Rig& rig, const Options& o) {
     PosedChainSpline d;

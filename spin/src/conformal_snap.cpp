@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/mesh/mass_matrix.hpp"
 #include "spinmotor/ga/quaternion.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
 #include "spinmotor/mesh/topology.hpp"
@@ -250,9 +251,7 @@ ConformalSnap::ConformalSnap(const Mesh& rest, const ConformalSnapOptions& optio
           "conformal_snap");
   const Eigen::Index n = rest.V.rows();
   s.face_area = face_areas(rest.V, rest.F);
-  s.vertex_area = Eigen::VectorXd::Zero(n);
-  for (Eigen::Index f = 0; f < rest.F.rows(); ++f)
-    for (int c = 0; c < 3; ++c) s.vertex_area[rest.F(f, c)] += s.face_area[f] / 3.0;
+  s.vertex_area = barycentric_vertex_areas(rest.F, s.face_area, n);
   {
     double sum = 0;
     for (Eigen::Index f = 0; f < rest.F.rows(); ++f)

@@ -12,6 +12,7 @@
 
 #include "spinmotor/linalg/cholmod_llt.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/mesh/mass_matrix.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 #include "spinmotor/mesh/validate.hpp"
 #include "spinmotor/spin/dirac_assembly.hpp"
@@ -261,9 +262,7 @@ DiracSpectrum face_dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixX
   const int count = options.count;
   const Eigen::Index N = 4 * n;
   if (options.eigenvectors) {
-    Eigen::VectorXd w = Eigen::VectorXd::Zero(n);  // barycentric vertex areas
-    for (Eigen::Index f = 0; f < m; ++f)
-      for (int c = 0; c < 3; ++c) w[F(f, c)] += net.area[f] / 3.0;
+    const Eigen::VectorXd w = barycentric_vertex_areas(F, net.area, n);
     out.eigenvectors.resize(N, count);
     for (int t = 0; t < count; ++t) {
       Eigen::VectorXd x = Eigen::VectorXd::Zero(N);

@@ -1,4 +1,4 @@
-// The real meshes of ../shared/meshes/ load and validate with the counts their README states.
+// The real meshes of the shared folder (meshes/) load and validate with the counts their README states.
 // Each file is parsed and validated once (a static cache) so the whole file stays fast.
 // `test_real_meshes "[.print]"` prints the full table of reports.
 #include <unistd.h>

@@ -1,6 +1,6 @@
 // Scene deformer types `ffd`, `cage` and `skin` through the `spinmotor deform` binary: good scenes run
 // and write their outputs (the posed controls act as named), bad cages and bad weight files exit with
-// code 2, name the problem and write nothing; schema keys of SCENE.md are accepted, typos rejected.
+// code 2, name the problem and write nothing; schema keys of docs/scene.md are accepted, typos rejected.
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
@@ -218,7 +218,7 @@ TEST_CASE("skin scene: harmonic weights run, bad weight files exit 2 naming file
   CHECK(r.code == 2);
   CHECK(r.err.find("w.txt:4:") != std::string::npos);
   CHECK(!fs::exists(t.path / "out"));
-  // SCENE.md's JSON weight file, with a negative weight
+  // docs/scene.md's JSON weight file, with a negative weight
   std::ofstream(t.path / "w.json") << R"({"bones": ["upper", "lower"], "weights": [[1, -1]]})";
   doc["deformer"]["weights"] = "w.json";
   r = deform(t.path, doc);
@@ -233,7 +233,7 @@ TEST_CASE("skin scene: harmonic weights run, bad weight files exit 2 naming file
   CHECK(r.err.find("/skeleton/bones/1/parent") != std::string::npos);
 }
 
-TEST_CASE("ffd/cage/skin schema: SCENE.md keys accepted, typos rejected", "[scene][schema]") {
+TEST_CASE("ffd/cage/skin schema: docs/scene.md keys accepted, typos rejected", "[scene][schema]") {
   json doc = ffd_scene();
   doc["deformer"]["box"] = json::parse(R"({"min": [-1, -1, -0.5], "max": [1, 1, 4.5]})");
   doc["deformer"]["basis"] = "bezier";

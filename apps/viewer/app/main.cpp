@@ -30,7 +30,7 @@
 int main(int argc, char** argv) {
   CLI::App app{"spinmotor-viewer: pose a mesh with CGA motor handles and snap it to a spin transformation"};
   spinmotor::viewer::app::Args a;
-  app.add_option("DOC", a.doc, "Scene file (.json, SCENE.md) or mesh file");
+  app.add_option("DOC", a.doc, "Scene file (.json, docs/scene.md) or mesh file");
   app.add_option("--scene", a.doc, "Scene file (same as DOC)");
   app.add_option("--screenshot", a.screenshot, "Headless: render one frame to this PNG and exit");
   app.add_option("--size", a.size, "Window / image size WxH")->capture_default_str();

@@ -486,7 +486,7 @@ void deformer_panel(Viewer& v) {
     const nlohmann::json block = b;
     v.rebind([&] { v.session.set_deformer(block, v.session.ik_block()); }, "rebound " + block.value("type", ""));
   }
-  if (ImGui::TreeNode("deformer block as JSON (every key of SCENE.md)")) {
+  if (ImGui::TreeNode("deformer block as JSON (every key of docs/scene.md)")) {
     ImGui::InputTextMultiline("##block", v.block_text, sizeof v.block_text, ImVec2(-1, 160));
     if (ImGui::Button("apply JSON")) {
       const std::string text = v.block_text;

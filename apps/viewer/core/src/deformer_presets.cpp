@@ -60,7 +60,7 @@ DeformerPreset deformer_preset(const std::string& choice, const scene::Scene& s)
             nullptr};
   if (choice == "skin") {
     if (!s.doc.contains("skeleton"))
-      throw Error("viewer: the skin deformer needs a `skeleton` in the scene (SCENE.md); this scene has none");
+      throw Error("viewer: the skin deformer needs a `skeleton` in the scene (docs/scene.md); this scene has none");
     return {same ? s.deformer : json{{"type", "skin"}, {"weights", "harmonic"}, {"blend", "dlb"}}, nullptr};
   }
   throw Error("viewer: no deformer choice '" + choice + "'");

@@ -106,18 +106,16 @@ public:
     int iterations = 100;      ///< at most this many global steps per pose (≥ 0)
     double tolerance = 1e-6;   ///< relative energy change that stops the iteration (≥ 0)
     ArapInitial initial = ArapInitial::Rest;
-    /// Factorization of L_FF (CHOLMOD). Auto: simplicial LDLᵀ up to kSupernodalFrom free vertices,
-    /// supernodal LLᵀ above. Measured with reference BLAS (bench_arap, CPU time): on the 80k tube the
-    /// simplicial solve of ARAP's three right-hand sides takes 14 ms against 27 ms supernodal
-    /// (factorization 530 ms against 340 ms: simplicial pays off after ~15 iterations with one handle
-    /// set); on the 1M tube the simplicial factorization takes 30 s against 11 s.
+    /// Factorization of L_FF (CHOLMOD). Auto: simplicial LDLᵀ up to kSupernodalFrom free vertices
+    /// (its three-column solves are faster, which pays off after a few iterations), supernodal LLᵀ
+    /// above (its factorization is much faster at 1M). Figures: docs/performance.md, "ARAP".
     enum class Factorization { Auto, Simplicial, Supernodal };
     Factorization factorization = Factorization::Auto;
     static constexpr Eigen::Index kSupernodalFrom = 300'000;
     /// Fill-reducing ordering of L_FF. Auto: both AMD and a geometric nested dissection (recursive
     /// median splits of the free vertices along their longest axis, the shorter boundary as
-    /// separator) are analysed and the one with fewer factorization flops is used. Measured: AMD wins
-    /// on nefertiti (140 Mflop against 394), nested dissection on the 80k tube (593 against 1060).
+    /// separator) are analysed and the one with fewer factorization flops is used (AMD wins on scanned
+    /// meshes, nested dissection on long tubes: docs/performance.md, "ARAP").
     enum class Ordering { Auto, AMD, NestedDissection };
     Ordering ordering = Ordering::Auto;
   };

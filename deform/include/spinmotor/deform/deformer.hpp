@@ -82,29 +82,29 @@ void check_skeleton(std::span<const Bone> bones);
 
 /// A joint chain solved by FABRIK toward a target (spline IK, CGA paper §III.C).
 struct IkChain {
-  Eigen::MatrixXd chain;               ///< k×3 rest joint positions, k ≥ 2, root first
+  Eigen::MatrixXd chain{};             ///< k×3 rest joint positions, k ≥ 2, root first
   Eigen::Vector3d target{0, 0, 0};     ///< rest target; the control "ik.target" moves it
   double tolerance = 1e-4;             ///< FABRIK: end-joint distance to the target
   int iterations = 50;                 ///< FABRIK: at most this many forward + backward passes
-  std::optional<ga::Rot> orientation;  ///< optional end-bone orientation relative to rest
+  std::optional<ga::Rot> orientation{};  ///< optional end-bone orientation relative to rest
 };
 
 /// What a deformer binds to besides the rest mesh and its options. Each deformer reads the parts it
 /// documents: handles (surface harmonic and ARAP: one control each; spline and spline IK: {from, to}),
 /// cage (cage deformer), skeleton + weights (skin), ik (spline IK). The FFD lattice is an option.
 struct Rig {
-  std::vector<Handle> handles;
-  std::optional<Mesh> cage;
-  std::vector<Bone> skeleton;
-  Eigen::SparseMatrix<double> weights;  ///< n×B skin weights (rows: vertices), used with skeleton
-  std::optional<IkChain> ik;
+  std::vector<Handle> handles{};
+  std::optional<Mesh> cage{};
+  std::vector<Bone> skeleton{};
+  Eigen::SparseMatrix<double> weights{};  ///< n×B skin weights (rows: vertices), used with skeleton
+  std::optional<IkChain> ik{};
 };
 
 /// One control of a deformer: the name a pose gives its motor and the rest point the motor carries
 /// (a handle's centroid, a lattice point, a cage vertex, a bone head, a spline key's place between the
 /// end handles, the IK target).
 struct Control {
-  std::string name;
+  std::string name{};
   Eigen::Vector3d anchor{0, 0, 0};
   bool operator==(const Control&) const = default;
 };

@@ -35,6 +35,15 @@ const char* to_string(SplineBasis basis);
 /// BSpline; degree ≤ 15).
 void check_spline(SplineBasis basis, int keys, int degree);
 
+/// Knot j of the clamped uniform knot vector of n controls and degree d on [0, 1]: 0 for j ≤ d, 1 for
+/// j ≥ n, (j − d)/(n − d) between.
+[[nodiscard]] double clamped_knot(int j, int n, int d) noexcept;
+
+/// The d + 1 non-zero clamped uniform B-spline basis functions N_{first..first+d, d}(t) at t ∈ [0, 1]
+/// (Cox–de Boor, Piegl & Tiller, The NURBS Book, A2.2) into N[0..d]; returns `first`. t = 1 belongs
+/// to the last span. Inputs: n ≥ d + 1, 1 ≤ d ≤ 31. Shared by the spline deformer and the FFD lattice.
+int bspline_nonzero(int n, int d, double t, double* N) noexcept;
+
 /// Inputs: basis, n keys, degree (BSpline), λ. Output: w[0..n) (Σ w = 1). No allocation.
 void spline_weights(SplineBasis basis, int keys, int degree, double lambda, double* w);
 

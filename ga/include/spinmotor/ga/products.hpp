@@ -83,7 +83,7 @@ struct product_table<P, MV<A...>, MV<B...>> {
 };
 
 template <class R, class X, class Y>
-SPINMOTOR_GA_PURE constexpr void step(R& r, const X& x, const Y& y, Entry e) noexcept {
+SPINMOTOR_GA_INLINE constexpr void step(R& r, const X& x, const Y& y, Entry e) noexcept {
   const double v = x.c[e.i] * y.c[e.j];
   if (e.first) {
     r.c[e.k] = e.neg ? -v : v;

@@ -11,24 +11,15 @@
 // indices, viewed by CHOLMOD without copying when compressed.
 //
 // Ordering (fill-reducing permutation, computed once per analyze()):
-//   Auto   (default) AMD below 500,000 rows, METIS from there on — chosen by measurement
-//          (bench_laplacian, cotangent Laplacian + mass of UV spheres, 2 cores, reference BLAS,
-//          supernodal; analyze + factorize + solve of 3 right-hand sides):
-//            100k: AMD 1.85 s (analyze 0.22, factor 1.40, nnz(L) 4.80M, 1.07 GFlop)
-//                  METIS 4.65 s (analyze 2.53, factor 1.92, nnz(L) 4.30M, 0.75 GFlop)
-//                  NESDIS 4.38 s (analyze 2.73, factor 1.46, nnz(L) 4.27M, 0.75 GFlop)
-//            1M:   AMD 88.6 s (analyze 1.9, factor 83.6, nnz(L) 72.2M, 53.9 GFlop)
-//                  METIS 70.9 s (analyze 32.8, factor 36.0, nnz(L) 55.8M, 25.2 GFlop)
-//          (wall times on a heavily shared machine: compare rows, not absolute values). Nested
-//          dissection halves the flops at 1M but its ordering costs 10× AMD's: AMD wins a one-off
-//          solve up to a few 100k rows; when one pattern is refactorized many times, prefer METIS
-//          at any size above ~50k.
+//   Auto   (default) AMD below 500,000 rows, METIS from there on: AMD's ordering is cheap and wins a
+//          one-off solve up to a few 100k rows; nested dissection halves the factorization flops at 1M
+//          (the measured ordering study: docs/performance.md, "Cholesky ordering").
 //   AMD    approximate minimum degree.
 //   METIS  nested dissection (METIS_NodeND).
 //   NESDIS CHOLMOD's nested dissection (METIS partitions + constrained minimum degree).
 //   Natural no permutation (tests, banded matrices).
-// Supernodal (default) vs simplicial: supernodal factorizes 2.8× faster at 100k (1.40 s vs 3.96 s,
-// AMD); simplicial is ~25% faster around 10k.
+// Supernodal (default) vs simplicial: supernodal factorizes faster from ~100k rows on, simplicial
+// can win around 10k (docs/performance.md).
 //
 // Failures throw spinmotor::Error:
 //   - BadInput: A not square, not finite, size or pattern different from the analyzed one, B with the

@@ -6,7 +6,7 @@
 // pattern; factorize() computes P_r A P_c = L U for a matrix with that pattern (call it again when
 // only the values change); solve() takes all right-hand sides at once (n×k).
 //
-// Column ordering: COLAMD by default, as DESIGN.md asks (MMD was measured ~40× slower on the 4n×4n
+// Column ordering: COLAMD by default, as docs/design.md asks (MMD was measured ~40× slower on the 4n×4n
 // quaternionic systems of the spin module). On matrices with a SYMMETRIC PATTERN, such as the
 // mean-value Laplacian (+ mass), MMD_AtPlusA is better: bench_laplacian (lu_ordering/*/10k) measured
 // nnz(L+U) 0.72M with MMD(Aᵀ+A) vs 1.43M with COLAMD, 1.41M with MMD(AᵀA), 2.84M natural, and about

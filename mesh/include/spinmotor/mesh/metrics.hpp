@@ -1,5 +1,5 @@
 #pragma once
-// Quality metrics of deformations and surfaces (DESIGN.md: every deformer and spin routine is judged
+// Quality metrics of deformations and surfaces (docs/design.md: every deformer and spin routine is judged
 // with these). One header per metric family:
 //   metrics/quasi_conformal.hpp     per-face quasi-conformal error Q, area-weighted Q_mean, Q_max
 //   metrics/area_distortion.hpp     log area ratio per face, global scale removed

@@ -5,7 +5,7 @@
 //
 // Bind once per mesh (set_mesh: connectivity, texture coordinates, rest positions), then per frame
 // set_positions(V) (normals recomputed, positions and normals uploaded as float) and draw(). Texture
-// coordinates are per corner (DESIGN.md): a mesh vertex with several UVs becomes several GPU vertices,
+// coordinates are per corner (docs/design.md): a mesh vertex with several UVs becomes several GPU vertices,
 // gathered from V on every upload. Per-face scalars (Q) live in a texture buffer read with
 // gl_PrimitiveID, so they need no vertex splitting; flat normals and wireframe distances come from a
 // geometry shader (one pass, no barycentric attributes).

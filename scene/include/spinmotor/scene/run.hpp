@@ -5,7 +5,7 @@
 // frame's mesh, metrics JSON and colour PLY atomically (AtomicFile). If any write fails, the files
 // this call already wrote are removed, so an error never leaves part of a run on disk.
 //
-// Metrics JSON of a frame (SCENE.md `output.metrics`):
+// Metrics JSON of a frame (docs/scene.md `output.metrics`):
 //   scene, mesh, deformer, vertices, faces, bind_ms, pose_ms, q_mean, q_max, area_distortion,
 //   max_handle_error, frame (animations only), metrics (the full compute_metrics object, see
 //   mesh/metrics/json.hpp), the deformer's own figures (e.g. "ik", "fit"); all of these describe
@@ -13,7 +13,7 @@
 //   snap (spin/conformal_snap.hpp, bound once per run): tradeoff, q_mean, q_max, area_distortion,
 //   rms_edit_to_snap and max_edit_to_snap (relative to the edit's bounding-box diagonal), eigenvalue,
 //   bind_ms (first frame), similarity_fit_ms, eigen_ms, poisson_ms, total_ms, metrics (full object).
-//   The output mesh and colours are then the snapped mesh (SCENE.md `output`).
+//   The output mesh and colours are then the snapped mesh (docs/scene.md `output`).
 // Animated scenes (`frames`) number their outputs: out/x.obj -> out/x.0000.obj, out/x.0001.obj, ...
 #include <Eigen/Core>
 #include <filesystem>

@@ -1,5 +1,5 @@
 #pragma once
-// Scene files (SCENE.md): loading, JSON Schema validation and the parsed scene.
+// Scene files (docs/scene.md): loading, JSON Schema validation and the parsed scene.
 //
 // load_scene(file) reads the JSON, validates it against the shipped schema (scene.schema.json,
 // embedded in the binary: scene_schema()), then builds what every deformer needs: the rest mesh (from
@@ -96,7 +96,7 @@ Scene load_scene(const std::filesystem::path& file);
 /// Same from an in-memory document; relative paths are relative to `dir`, messages name `name`.
 Scene parse_scene(const nlohmann::json& doc, const std::filesystem::path& dir, const std::string& name = "scene");
 
-/// A motor from its JSON form (SCENE.md `pose`): rotate/translate, matrix (rigid, row-major 4×4) or
+/// A motor from its JSON form (docs/scene.md `pose`): rotate/translate, matrix (rigid, row-major 4×4) or
 /// quaternion (normalized) + translate. Throws Error naming `pointer` (and the sub-key) when the
 /// matrix is not rigid or an axis/quaternion is zero.
 ga::Mot parse_motor(const nlohmann::json& j, const std::string& pointer, const std::string& scene_name = "scene");

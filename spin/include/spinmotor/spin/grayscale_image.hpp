@@ -1,6 +1,6 @@
 #pragma once
 // A grayscale image read from TGA or PNG (via stb_image) and sampled bilinearly, the way the reference
-// SpinXForm code samples its curvature images (see ../shared/meshes/README.md, spinxform section).
+// SpinXForm code samples its curvature images (the reference data of SpinXForm: sphere.obj and bumpy.tga).
 //
 // Storage: width × height values in [0, 255] (colour images are converted to luminance by stb),
 // row 0 is the BOTTOM row, so that pixel (x, y) sits at texture coordinate (x / width, y / height) with

@@ -1,5 +1,5 @@
 #pragma once
-// The deformer panel's starting points: for each deformer type, the scene blocks (SCENE.md) a user
+// The deformer panel's starting points: for each deformer type, the scene blocks (docs/scene.md) a user
 // gets when switching to it in the viewer, built from what the scene already has (its handles, its
 // skeleton) and tuned for interactive use. Window-free; Session::set_deformer binds them.
 #include <nlohmann/json.hpp>

@@ -1,5 +1,5 @@
 #pragma once
-// The viewer's document: a scene file (SCENE.md) or a bare mesh, its bound deformer, the current pose
+// The viewer's document: a scene file (docs/scene.md) or a bare mesh, its bound deformer, the current pose
 // with undo/redo, and saving. Window-free (the headless screenshot mode and the tests drive it).
 //
 //   Session s = Session::open("scene.json");    // load, validate, bind the deformer once
@@ -21,7 +21,7 @@
 namespace spinmotor::viewer {
 
 /// A motor as scene JSON: {"quaternion": [w, x, y, z], "translate": [tx, ty, tz]} (rotation about the
-/// origin, then translation; SCENE.md `pose`).
+/// origin, then translation; docs/scene.md `pose`).
 nlohmann::json motor_to_json(const ga::Mot& m);
 
 /// References returned by scene(), rest(), controls() and posed() stay valid until the next call of
