@@ -591,39 +591,60 @@ TEST_CASE("delta mush: bind and pose times at 10k and 100k vertices", "[.timing]
   auto ms = [](Clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   };
-  for (int rings : {100, 1000}) {
-    const Mesh m = capsule(1.0, 10.0, rings, 100);
-    const auto bones = arm();
-    const MatrixXd W = arm_weights(m.V);
-    const std::vector<ga::Mot> frames = {kId, rotation_about({0, 0, 5}, {1, 0, 0}, 60)};
-    MatrixXd V;
-    auto t0 = Clock::now();
-    DeltaMushDeformer dm = DeltaMushDeformer::bind(m, bones, W, {});
-    const double dm_bind = ms(t0);
-    dm.pose(frames, V);
-    t0 = Clock::now();
-    for (int k = 0; k < 5; ++k) dm.pose(frames, V);
-    const double dm_pose = ms(t0) / 5;
-    t0 = Clock::now();
-    DirectDeltaMushDeformer ddm = DirectDeltaMushDeformer::bind(m, bones, W, {});
-    const double ddm_bind = ms(t0);
-    ddm.pose(frames, V);
-    t0 = Clock::now();
-    for (int k = 0; k < 5; ++k) ddm.pose(frames, V);
-    const double ddm_pose = ms(t0) / 5;
-    SkinDeformer lbs = SkinDeformer::bind(m, bones, W, {SkinDeformer::Blend::LBS});
-    lbs.pose(frames, V);
-    t0 = Clock::now();
-    for (int k = 0; k < 5; ++k) lbs.pose(frames, V);
-    const double lbs_pose = ms(t0) / 5;
-    std::printf(
-        "%ld vertices, 2 bones: LBS pose %.2f ms | DM bind %.1f ms, pose %.2f ms | DDM bind %.1f ms, pose "
-        "%.2f "
-        "ms, %ld pairs\n",
-        static_cast<long>(m.V.rows()), lbs_pose, dm_bind, dm_pose, ddm_bind, ddm_pose,
-        static_cast<long>(ddm.pairs()));
-  }
+  // B bones chained along z over [0, 10], hat weights between bone centres (2 bones per vertex)
+  auto chain = [](int B) {
+    std::vector<Bone> b;
+    const double h = 10.0 / B;
+    for (int j = 0; j < B; ++j)
+      b.push_back({"b" + std::to_string(j), j - 1, {0, 0, h * j}, {0, 0, h * (j + 1)}});
+    return b;
+  };
+  auto chain_weights = [](const MatrixXd& V, int B) {
+    const double h = 10.0 / B;
+    MatrixXd W = MatrixXd::Zero(V.rows(), B);
+    for (Index i = 0; i < V.rows(); ++i) {
+      const double x = std::clamp(V(i, 2) / h - 0.5, 0.0, B - 1.0);
+      const int j = std::min(static_cast<int>(x), B - 2);
+      W(i, j) = 1.0 - (x - j), W(i, j + 1) = x - j;
+    }
+    return W;
+  };
+  for (int rings : {100, 1000})
+    for (int B : {2, 10}) {
+      const Mesh m = capsule(1.0, 10.0, rings, 100);
+      const auto bones = chain(B);
+      const MatrixXd W = chain_weights(m.V, B);
+      std::vector<ga::Mot> frames;
+      for (int j = 0; j < B; ++j)
+        frames.push_back(rotation_about({0, 0, 10.0 * j / B}, {1, 0, 0}, 60.0 * j / B));
+      MatrixXd V;
+      auto t0 = Clock::now();
+      DeltaMushDeformer dm = DeltaMushDeformer::bind(m, bones, W, {});
+      const double dm_bind = ms(t0);
+      dm.pose(frames, V);
+      t0 = Clock::now();
+      for (int k = 0; k < 5; ++k) dm.pose(frames, V);
+      const double dm_pose = ms(t0) / 5;
+      t0 = Clock::now();
+      DirectDeltaMushDeformer ddm = DirectDeltaMushDeformer::bind(m, bones, W, {});
+      const double ddm_bind = ms(t0);
+      ddm.pose(frames, V);
+      t0 = Clock::now();
+      for (int k = 0; k < 5; ++k) ddm.pose(frames, V);
+      const double ddm_pose = ms(t0) / 5;
+      SkinDeformer lbs = SkinDeformer::bind(m, bones, W, {SkinDeformer::Blend::LBS});
+      lbs.pose(frames, V);
+      t0 = Clock::now();
+      for (int k = 0; k < 5; ++k) lbs.pose(frames, V);
+      const double lbs_pose = ms(t0) / 5;
+      std::printf(
+          "%ld vertices, %d bones: LBS pose %.2f ms | DM bind %.1f ms, pose %.2f ms | DDM bind %.1f ms, pose "
+          "%.2f ms, %ld pairs\n",
+          static_cast<long>(m.V.rows()), B, lbs_pose, dm_bind, dm_pose, ddm_bind, ddm_pose,
+          static_cast<long>(ddm.pairs()));
+    }
 }
+
 // Hidden: how the joint band's width changes the picture (arm_weights: smoothstep over |z − 5| < h).
 TEST_CASE("delta mush: bend 90 degrees for joint bands of 0.05 to 3 (printed table)", "[.study]") {
   const Mesh m = capsule(1.0, 10.0, 120, 32);
