@@ -93,7 +93,7 @@ MatrixXd arm_weights(const MatrixXd& V, double h = 1.5) {
 std::vector<Bone> six_bones() {
   std::vector<Bone> b;
   for (int j = 0; j < 6; ++j)
-    b.push_back({"b" + std::to_string(j),
+    b.push_back({std::string("b").append(std::to_string(j)),
                  j - 1,
                  {0, 0, 1.0 * j},
                  {0, 0, 1.0 * j + 1},
@@ -596,7 +596,7 @@ TEST_CASE("delta mush: bind and pose times at 10k and 100k vertices", "[.timing]
     std::vector<Bone> b;
     const double h = 10.0 / B;
     for (int j = 0; j < B; ++j)
-      b.push_back({"b" + std::to_string(j), j - 1, {0, 0, h * j}, {0, 0, h * (j + 1)}});
+      b.push_back({std::string("b").append(std::to_string(j)), j - 1, {0, 0, h * j}, {0, 0, h * (j + 1)}});
     return b;
   };
   auto chain_weights = [](const MatrixXd& V, int B) {
