@@ -162,7 +162,7 @@ void DirectDeltaMushDeformer::pose(std::span<const ga::Mot> frames, Eigen::Matri
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::Vector3d u(P(i, 0), P(i, 1), P(i, 2));
     const Eigen::Matrix<double, 3, 4>& Tr = T[bone[off[i]]];
-    const Eigen::Vector3d tau_ref = Tr.leftCols<3>() * u + Tr.col(3);
+    const Eigen::Vector3d c_ref = Tr.leftCols<3>() * u + Tr.col(3);
     double s = 0.0;
     Eigen::Vector3d pm = Eigen::Vector3d::Zero(), qm = Eigen::Vector3d::Zero();
     Eigen::Matrix3d G = Eigen::Matrix3d::Zero();
@@ -170,14 +170,14 @@ void DirectDeltaMushDeformer::pose(std::span<const ga::Mot> frames, Eigen::Matri
       const Packed& o = om[a];
       const Eigen::Matrix<double, 3, 4>& Tj = T[bone[a]];
       const Eigen::Vector3d m(o[1], o[2], o[3]);
-      const Eigen::Vector3d delta = (Tj.leftCols<3>() * u + Tj.col(3)) - tau_ref;  // τ_j − τ_ref
+      const Eigen::Vector3d delta = (Tj.leftCols<3>() * u + Tj.col(3)) - c_ref;  // c_j − c_ref
       s += o[0];
       pm += m;
       qm += Tj.leftCols<3>() * m + o[0] * delta;
       G.noalias() += Tj.leftCols<3>() * unpack_S(o);
       G.noalias() += delta * m.transpose();
     }
-    const Eigen::Vector3d pbar = pm / s, qrel = qm / s;  // q̄ = τ_ref + qrel
+    const Eigen::Vector3d pbar = pm / s, qrel = qm / s;  // q̄ = c_ref + qrel
     const Eigen::Matrix3d M = G / s - qrel * pbar.transpose();
     const Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
     Eigen::Matrix3d U = svd.matrixU();
@@ -187,7 +187,7 @@ void DirectDeltaMushDeformer::pose(std::span<const ga::Mot> frames, Eigen::Matri
       U.col(2) = -U.col(2);  // the smallest singular value's direction
       R = U * V.transpose();
     }
-    const Eigen::Vector3d out = tau_ref + (qrel - R * pbar);
+    const Eigen::Vector3d out = c_ref + (qrel - R * pbar);
     V_out(i, 0) = out.x(), V_out(i, 1) = out.y(), V_out(i, 2) = out.z();
   }
 }

@@ -13,11 +13,12 @@
 //               symmetric positive definite matrix (1+τ) D − τ A:  (I + τL) x = b ⇔ ((1+τ)D − τA) x = D b,
 //               one sparse Cholesky factorization (CholeskySolver), no dense inverse. Uniform, not
 //               cotangent, on purpose: (1+τ)D − τA is a diagonally dominant M-matrix, so Ψ ≥ 0
-//               entrywise and its rows sum to 1, which makes every Ω below positive semi-definite and
-//               the identity pose exact; the cotangent Laplacian has positive off-diagonal entries at
-//               obtuse angles, Ψ can then have negative entries, the moment matrix can be indefinite and
-//               the SVD's rotation can flip (a known failure of public implementations at the rest
-//               pose).
+//               entrywise and its rows sum to 1, which makes every Ω below positive semi-definite, so
+//               the rest pose's M (below) is a symmetric PSD covariance whose polar factor is I: the
+//               rest mesh comes back to rounding. The cotangent Laplacian has positive off-diagonal
+//               entries at obtuse angles, Ψ can then have negative entries, M can be indefinite and
+//               the SVD's rotation can flip: a plausible cause (not verified) of the rest-pose failure
+//               reported against a widely used public implementation.
 //   bind        per vertex i and bone j the symmetric 4×4
 //                 Ω_ij = Σ_k Ψ_ik w_kj [u_k − u_i; 1][u_k − u_i; 1]ᵀ     (10 numbers)
 //               computed as 10·B columns Ψ (w_j ∘ [1, y, y yᵀ]) of smoothed moments (y = coordinates
@@ -30,9 +31,12 @@
 //                 Q_i = Σ_j M_j Ω_ij = [[Q3, q], [pᵀ, s]],  p̄ = p/s,  q̄ = q/s,
 //                 M = Q3/s − q̄ p̄ᵀ,  SVD M = U Σ Vᵀ,  R = U Vᵀ (det < 0: negate U's last column),
 //                 t = q̄ − R p̄,  u'_i = R·0 + t = q̄ − R p̄   (u_i is the origin of Ω_ij's coordinates).
-//               The paper's u'_i = R u_i + t is this in world coordinates. M is assembled as
-//               Σ R_j S_j/s + Σ δ_j m_jᵀ/s − (Σ R_j m_j + Σ δ_j s_j)/s · p̄ᵀ with δ_j = τ_j − τ_ref,
-//               τ_j = M_j u_i (so one common motion gives δ = 0 exactly), which is algebraically Q3/s − q̄ p̄ᵀ.
+//               The paper's u'_i = R u_i + t is this in world coordinates. With c_j = M_j u_i (vertex i
+//               moved by bone j), c_ref the c_j of the vertex's first kept pair and δ_j = c_j − c_ref,
+//                 q̄ = c_ref + (Σ R_j m_j + Σ δ_j s_j)/s,
+//                 M = Σ R_j S_j/s + Σ δ_j m_jᵀ/s − (q̄ − c_ref) p̄ᵀ,
+//               algebraically Q3/s − q̄ p̄ᵀ, but without the product of two large terms: one common
+//               motion of all bones gives δ = 0 exactly.
 // With p = 0 iterations Ψ = I, p̄ = 0 and the result is LBS.
 //
 // pose(): B bone matrices, then per vertex its kept pairs (≈ the bones within the smoothing's reach),
