@@ -24,6 +24,18 @@ double segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, cons
   return (p - a - t * d).norm();
 }
 
+/// checked_unit_motor's test, with its message (a string built per call) made only on failure, so that
+/// pose() allocates nothing per frame.
+ga::Mot unit_frame(const ga::Mot& m, const std::string& bone) {
+  bool ok = true;
+  for (double c : m.c) ok = ok && std::isfinite(c);
+  if (ok) {
+    const auto nn = m * ga::reverse(m);
+    ok = std::abs(nn.get<ga::blade::s>() - 1.0) <= 1e-6 && std::abs(nn.get<ga::blade::e123ni>()) <= 1e-6;
+  }
+  return ok ? ga::normalize(m) : checked_unit_motor(m, "frame of bone '" + bone + "'");
+}
+
 }  // namespace
 
 void check_skeleton(std::span<const Bone> bones) {
@@ -226,9 +238,8 @@ void SkinDeformer::prepare(std::span<const ga::Mot> frames) {
   const std::size_t B = bones_.size();
   if (frames.size() != B)
     throw Error("SkinDeformer: " + std::to_string(frames.size()) + " bone frames for " + std::to_string(B) + " bones");
-  for (std::size_t j = 0; j < B; ++j)
-    motions_[j] = ga::normalize(checked_unit_motor(frames[j], "frame of bone '" + bones_[j].name + "'") *
-                                ga::reverse(bones_[j].rest));  // K_j = F_j ~F_j^0
+  for (std::size_t j = 0; j < B; ++j)  // K_j = F_j ~F_j^0
+    motions_[j] = ga::normalize(unit_frame(frames[j], bones_[j].name) * ga::reverse(bones_[j].rest));
   switch (options_.blend) {
     case Blend::LBS:
       for (std::size_t j = 0; j < B; ++j) matrices_[j] = ga::to_isometry(motions_[j]).matrix().topRows<3>();
