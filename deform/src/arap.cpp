@@ -55,11 +55,10 @@ ArapDeformer ArapDeformer::bind(const Mesh& rest, std::span<const Handle> handle
   d.F_ = rest.F;
   d.P_ = rest.V;
   const int n = static_cast<int>(rest.V.rows());
-  const Eigen::Index m = rest.F.rows();
-  const RowMatrix3& P = d.P_;
-  const Eigen::MatrixXi& F = d.F_;
 
-  // The one-ring CSR: the off-diagonal pattern of the cotangent Laplacian (rows sorted per column).
+  // Phases: weights (cotangent Laplacian, corner cotangents), cells (one-ring CSR, the energy's
+  // per-cell coefficients, the global matrix from the same weights), handles (component check and
+  // the factorization of L_FF, bind_handles).
   const auto t_weights = Clock::now();
   Eigen::MatrixXd C;  // ½ cot per face corner (spokes and rims)
   try {
@@ -73,125 +72,151 @@ ArapDeformer ArapDeformer::bind(const Mesh& rest, std::span<const Handle> handle
   }
   d.bind_report_.weights_ms = ms_since(t_weights);
   const auto t_cells = Clock::now();
-  Eigen::SparseMatrix<double>& L = d.L_;
-  d.off_.assign(n + 1, 0);
-  for (int i = 0; i < n; ++i)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(L, i); it; ++it)
-      if (it.row() != i) ++d.off_[i + 1];
-  for (int i = 0; i < n; ++i) d.off_[i + 1] += d.off_[i];
-  const int slots = d.off_[n];
-  d.nbr_.resize(slots);
-  for (int i = 0, k = 0; i < n; ++i)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(L, i); it; ++it)
-      if (it.row() != i) d.nbr_[k++] = static_cast<int>(it.row());
-  const auto slot = [&d](int i, int j) {
-    const auto b = d.nbr_.begin() + d.off_[i], e = d.nbr_.begin() + d.off_[i + 1];
-    return static_cast<int>(std::lower_bound(b, e, j) - d.nbr_.begin());
-  };
-  d.w_.setZero(slots);
-  d.kappa_.setZero(slots, 3);
-  d.h_.setZero(slots, 3);
+  d.build_one_ring();
+  d.w_.setZero(d.off_[n]);
+  d.kappa_.setZero(d.off_[n], 3);
+  d.h_.setZero(d.off_[n], 3);
   d.h_self_.setZero(n, 3);
   d.a_rest_.setZero(n);
-  const bool clamp = options.clamp_negative_weights;
+  if (options.energy == ArapEnergy::Spokes)
+    d.bind_spoke_cells();
+  else
+    d.bind_rim_cells(options.clamp_negative_weights ? Eigen::MatrixXd(C.cwiseMax(0.0)) : C);
+  d.assemble_global_matrix();
+  d.energy_scale_ = d.a_rest_.cwiseAbs().sum();
+  d.find_unreferenced();
+  d.bind_report_.cells_ms = ms_since(t_cells);
+  d.bind_handles(handles);
 
-  if (options.energy == ArapEnergy::Spokes) {
-    // Eq. (9): cell i = its spokes (i, j), w_ij = −L_ij. S_i = Σ_j w_ij e_ij e'_ijᵀ = Σ_j κ_ij (x'_j − x'_i)ᵀ
-    // with κ_ij = −w_ij e_ij; eq. (12): B_i = ½ Σ_j w_ij (R_i + R_j) e_ij.
-    for (int i = 0; i < n; ++i) {
-      int k = d.off_[i];
-      for (Eigen::SparseMatrix<double>::InnerIterator it(L, i); it; ++it) {
-        if (it.row() == i) continue;
-        const double w = clamp ? std::max(-it.value(), 0.0) : -it.value();
-        const Eigen::RowVector3d e = P.row(i) - P.row(it.row());
-        d.w_[k] = w;
-        d.kappa_.row(k) = -w * e;
-        d.h_.row(k) = 0.5 * w * e;
-        d.h_self_.row(i) += 0.5 * w * e;
-        d.a_rest_[i] += w * e.squaredNorm();
-        ++k;
-      }
-    }
-  } else {
-    // Spokes and rims: cell a = every face t ∋ a with its three edges e_k (opposite corner k, e_k =
-    // x_{k+2} − x_{k+1}) weighted c_k = ½ cot of corner k. Per face Σ_k c_k e_k e'_kᵀ = Σ_k G_k x'_kᵀ with
-    // G_k = W_{k+1} − W_{k+2}, W_k = c_k e_k (Σ_k G_k = 0), and G_k is also the face's share of (L x)
-    // at corner k, so B_a = ⅓ Σ_{t ∋ a} (R_t0 + R_t1 + R_t2) G_{t,k(a)}.
-    if (clamp) C = C.cwiseMax(0.0);
-    d.rim_off_.assign(n + 1, 0);
-    for (Eigen::Index t = 0; t < m; ++t)
-      for (int k = 0; k < 3; ++k) ++d.rim_off_[F(t, k) + 1];
-    for (int i = 0; i < n; ++i) d.rim_off_[i + 1] += d.rim_off_[i];
-    const int rims = d.rim_off_[n];
-    d.rim_l_.resize(rims);
-    d.rim_m_.resize(rims);
-    d.rim_c_.resize(rims);
-    std::vector<int> cursor(d.rim_off_.begin(), d.rim_off_.end() - 1);
-    for (Eigen::Index t = 0; t < m; ++t) {
-      Eigen::Matrix3d W;  // rows W_k
-      double face_energy = 0.0;
-      for (int k = 0; k < 3; ++k) {
-        const Eigen::RowVector3d e = P.row(F(t, (k + 2) % 3)) - P.row(F(t, (k + 1) % 3));
-        W.row(k) = C(t, k) * e;
-        face_energy += C(t, k) * e.squaredNorm();
-      }
-      Eigen::Matrix3d G;
-      for (int k = 0; k < 3; ++k) G.row(k) = W.row((k + 1) % 3) - W.row((k + 2) % 3);
-      for (int k = 0; k < 3; ++k) {
-        const int a = F(t, k);
-        for (int kk = 1; kk <= 2; ++kk) {
-          const int kl = (k + kk) % 3, l = F(t, kl);
-          const int s = slot(a, l);
-          d.kappa_.row(s) += G.row(kl);
-          d.h_.row(s) += G.row(k) / 3.0;
-          d.w_[s] += C(t, 3 - k - kl);  // edge (a, l) is opposite the third corner
-        }
-        d.h_self_.row(a) += G.row(k) / 3.0;
-        d.a_rest_[a] += face_energy;
-        const int r = cursor[a]++;
-        d.rim_l_[r] = F(t, (k + 1) % 3);
-        d.rim_m_[r] = F(t, (k + 2) % 3);
-        d.rim_c_[r] = C(t, k);
-      }
+  d.X_ = d.P_;
+  d.rot_.assign(n, ga::Rot(1.0, 0.0, 0.0, 0.0));
+  d.Rm_.assign(n, Eigen::Matrix3d::Identity());
+  return d;
+}
+
+// ---- bind phases ---------------------------------------------------------------------------------
+
+/// The one-ring CSR: the off-diagonal pattern of the cotangent Laplacian (rows sorted per column).
+void ArapDeformer::build_one_ring() {
+  const int n = static_cast<int>(P_.rows());
+  off_.assign(n + 1, 0);
+  for (int i = 0; i < n; ++i)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(L_, i); it; ++it)
+      if (it.row() != i) ++off_[i + 1];
+  for (int i = 0; i < n; ++i) off_[i + 1] += off_[i];
+  nbr_.resize(off_[n]);
+  for (int i = 0, k = 0; i < n; ++i)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(L_, i); it; ++it)
+      if (it.row() != i) nbr_[k++] = static_cast<int>(it.row());
+}
+
+/// The CSR slot of neighbour j in vertex i's one-ring.
+int ArapDeformer::slot(int i, int j) const {
+  const auto b = nbr_.begin() + off_[i], e = nbr_.begin() + off_[i + 1];
+  return static_cast<int>(std::lower_bound(b, e, j) - nbr_.begin());
+}
+
+/// Eq. (9): cell i = its spokes (i, j), w_ij = −L_ij. S_i = Σ_j w_ij e_ij e'_ijᵀ = Σ_j κ_ij (x'_j − x'_i)ᵀ
+/// with κ_ij = −w_ij e_ij; eq. (12): B_i = ½ Σ_j w_ij (R_i + R_j) e_ij.
+void ArapDeformer::bind_spoke_cells() {
+  const int n = static_cast<int>(P_.rows());
+  const bool clamp = options_.clamp_negative_weights;
+  for (int i = 0; i < n; ++i) {
+    int k = off_[i];
+    for (Eigen::SparseMatrix<double>::InnerIterator it(L_, i); it; ++it) {
+      if (it.row() == i) continue;
+      const double w = clamp ? std::max(-it.value(), 0.0) : -it.value();
+      const Eigen::RowVector3d e = P_.row(i) - P_.row(it.row());
+      w_[k] = w;
+      kappa_.row(k) = -w * e;
+      h_.row(k) = 0.5 * w * e;
+      h_self_.row(i) += 0.5 * w * e;
+      a_rest_[i] += w * e.squaredNorm();
+      ++k;
     }
   }
-  // The global matrix from the same weights (eq. 12: Σ_j w_ij (x'_i − x'_j) = B_i).
+}
+
+/// Spokes and rims: cell a = every face t ∋ a with its three edges e_k (opposite corner k, e_k =
+/// x_{k+2} − x_{k+1}) weighted c_k = ½ cot of corner k (C, clamped if asked). Per face
+/// Σ_k c_k e_k e'_kᵀ = Σ_k G_k x'_kᵀ with G_k = W_{k+1} − W_{k+2}, W_k = c_k e_k (Σ_k G_k = 0), and G_k is
+/// also the face's share of (L x) at corner k, so B_a = ⅓ Σ_{t ∋ a} (R_t0 + R_t1 + R_t2) G_{t,k(a)}.
+void ArapDeformer::bind_rim_cells(const Eigen::MatrixXd& C) {
+  const int n = static_cast<int>(P_.rows());
+  const Eigen::Index m = F_.rows();
+  const RowMatrix3& P = P_;
+  const Eigen::MatrixXi& F = F_;
+  rim_off_.assign(n + 1, 0);
+  for (Eigen::Index t = 0; t < m; ++t)
+    for (int k = 0; k < 3; ++k) ++rim_off_[F(t, k) + 1];
+  for (int i = 0; i < n; ++i) rim_off_[i + 1] += rim_off_[i];
+  const int rims = rim_off_[n];
+  rim_l_.resize(rims);
+  rim_m_.resize(rims);
+  rim_c_.resize(rims);
+  std::vector<int> cursor(rim_off_.begin(), rim_off_.end() - 1);
+  for (Eigen::Index t = 0; t < m; ++t) {
+    Eigen::Matrix3d W;  // rows W_k
+    double face_energy = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::RowVector3d e = P.row(F(t, (k + 2) % 3)) - P.row(F(t, (k + 1) % 3));
+      W.row(k) = C(t, k) * e;
+      face_energy += C(t, k) * e.squaredNorm();
+    }
+    Eigen::Matrix3d G;
+    for (int k = 0; k < 3; ++k) G.row(k) = W.row((k + 1) % 3) - W.row((k + 2) % 3);
+    for (int k = 0; k < 3; ++k) {
+      const int a = F(t, k);
+      for (int kk = 1; kk <= 2; ++kk) {
+        const int kl = (k + kk) % 3, l = F(t, kl);
+        const int s = slot(a, l);
+        kappa_.row(s) += G.row(kl);
+        h_.row(s) += G.row(k) / 3.0;
+        w_[s] += C(t, 3 - k - kl);  // edge (a, l) is opposite the third corner
+      }
+      h_self_.row(a) += G.row(k) / 3.0;
+      a_rest_[a] += face_energy;
+      const int r = cursor[a]++;
+      rim_l_[r] = F(t, (k + 1) % 3);
+      rim_m_[r] = F(t, (k + 2) % 3);
+      rim_c_[r] = C(t, k);
+    }
+  }
+}
+
+/// The global matrix from the cells' weights (eq. 12: Σ_j w_ij (x'_i − x'_j) = B_i), in place in L_.
+void ArapDeformer::assemble_global_matrix() {
+  const int n = static_cast<int>(P_.rows());
   for (int i = 0; i < n; ++i) {
-    int k = d.off_[i];
+    int k = off_[i];
     double diag = 0.0;
     double* diag_value = nullptr;
-    for (Eigen::SparseMatrix<double>::InnerIterator it(L, i); it; ++it) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(L_, i); it; ++it) {
       if (it.row() == i) {
         diag_value = &it.valueRef();
         continue;
       }
       const int j = static_cast<int>(it.row());
       // Symmetric to the last bit: the lower-triangle weight is taken from the smaller index's slot.
-      const double w = j > i ? d.w_[k] : d.w_[slot(j, i)];
+      const double w = j > i ? w_[k] : w_[slot(j, i)];
       it.valueRef() = -w;
       diag += w;
       ++k;
     }
     if (diag_value) *diag_value = diag;
   }
-  d.energy_scale_ = d.a_rest_.cwiseAbs().sum();
+}
 
-  // Vertices that no face references: constrained at rest (or by their handle).
+/// Vertices that no face references: constrained at rest (or by their handle).
+void ArapDeformer::find_unreferenced() {
+  const int n = static_cast<int>(P_.rows());
   std::vector<char> referenced(n, 0);
-  for (Eigen::Index t = 0; t < m; ++t)
-    for (int k = 0; k < 3; ++k) referenced[F(t, k)] = 1;
+  for (Eigen::Index t = 0; t < F_.rows(); ++t)
+    for (int k = 0; k < 3; ++k) referenced[F_(t, k)] = 1;
   std::vector<int> unref;
   for (int i = 0; i < n; ++i)
     if (!referenced[i]) unref.push_back(i);
-  d.unreferenced_ = Eigen::Map<Eigen::VectorXi>(unref.data(), static_cast<Eigen::Index>(unref.size()));
-
-  d.bind_report_.cells_ms = ms_since(t_cells);
-  d.bind_handles(handles);
-
-  d.X_ = P;
-  d.rot_.assign(n, ga::Rot(1.0, 0.0, 0.0, 0.0));
-  d.Rm_.assign(n, Eigen::Matrix3d::Identity());
-  return d;
+  unreferenced_ = Eigen::Map<Eigen::VectorXi>(unref.data(), static_cast<Eigen::Index>(unref.size()));
 }
 
 void ArapDeformer::bind_handles(std::span<const Handle> handles) {

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "mush_detail.hpp"
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 
 namespace spinmotor {
 
@@ -141,9 +141,9 @@ int DeltaMushDeformer::frames() {
 }
 
 void DeltaMushDeformer::pose(std::span<const ga::Mot> frames_in, Eigen::MatrixXd& V_out) {
-  if (static_cast<Eigen::Index>(frames_in.size()) != bones())
+  if (frames_in.size() != controls().size())
     throw Error(std::string(kWho) + ": " + std::to_string(frames_in.size()) + " bone frames for " +
-                std::to_string(bones()) + " bones");
+                std::to_string(controls().size()) + " bones");
   skin_.pose(frames_in, skinned_);  // checks the frames, naming the bone
   smooth(skinned_);
   if (const int bad = frames(); bad >= 0)

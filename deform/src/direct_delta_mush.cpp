@@ -6,8 +6,8 @@
 #include <string>
 
 #include "mush_detail.hpp"
-#include "spinmotor/error.hpp"
-#include "spinmotor/mesh/cholesky_solver.hpp"
+#include "spinmotor/core/error.hpp"
+#include "spinmotor/linalg/cholesky_solver.hpp"
 
 namespace spinmotor {
 
@@ -52,6 +52,7 @@ DirectDeltaMushDeformer DirectDeltaMushDeformer::finish(const Mesh& rest, std::s
   DirectDeltaMushDeformer d;
   d.options_ = options;
   d.bones_.assign(bones.begin(), bones.end());
+  d.controls_ = skin.controls();
   d.P_ = rest.V;
   d.W_ = skin.weights();  // validated, ≤ 4 per row, rows sum to 1 (column-major: one column per bone)
   const Eigen::Index n = rest.V.rows();
@@ -134,7 +135,7 @@ DirectDeltaMushDeformer DirectDeltaMushDeformer::finish(const Mesh& rest, std::s
 }
 
 Eigen::Matrix4d DirectDeltaMushDeformer::omega(Eigen::Index i, int j) const {
-  if (i < 0 || i >= vertices() || j < 0 || j >= bones())
+  if (i < 0 || i >= vertices() || j < 0 || j >= static_cast<int>(bones_.size()))
     throw Error(std::string(kWho) + "::omega: vertex " + std::to_string(i) + " or bone " + std::to_string(j) +
                 " out of range");
   Eigen::Matrix4d O = Eigen::Matrix4d::Zero();

@@ -10,7 +10,7 @@
 
 #include "spinmotor/deform/motor_blend_field.hpp"  // checked_unit_motor
 #include "spinmotor/deform/skinning.hpp"
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 #include "spinmotor/mesh/topology.hpp"

@@ -47,6 +47,25 @@ inline void append_int(std::string& out, long long x) {
   out.append(buf, r.ptr);
 }
 
+/// The vertex and face lines shared by OFF and ASCII PLY: "x y z" per vertex, then "3 a b c" per face.
+inline void append_vertex_face_lines(std::string& out, const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  for (Eigen::Index i = 0; i < V.rows(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      if (k) out += ' ';
+      append_double(out, V(i, k));
+    }
+    out += '\n';
+  }
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    out += '3';
+    for (int c = 0; c < 3; ++c) {
+      out += ' ';
+      append_int(out, F(f, c));
+    }
+    out += '\n';
+  }
+}
+
 inline bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
 
 /// Splits a line (no '\n') into whitespace-separated tokens, stopping at '#' when `hash_comments`.

@@ -369,21 +369,7 @@ void write_ply(const fs::path& path, const Mesh& mesh, bool binary) {
     }
   } else {
     out.reserve(out.size() + static_cast<std::size_t>(mesh.V.rows() * 60 + mesh.F.rows() * 30));
-    for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) {
-      for (int k = 0; k < 3; ++k) {
-        if (k) out += ' ';
-        append_double(out, mesh.V(i, k));
-      }
-      out += '\n';
-    }
-    for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
-      out += '3';
-      for (int c = 0; c < 3; ++c) {
-        out += ' ';
-        append_int(out, mesh.F(f, c));
-      }
-      out += '\n';
-    }
+    append_vertex_face_lines(out, mesh.V, mesh.F);
   }
   write_text_atomic(path, out);
 }

@@ -122,12 +122,7 @@ CurvatureSpinStep curvature_spin_step(const Eigen::MatrixXd& V, const Eigen::Mat
                                       const CurvatureSpinOptions& options) {
   static constexpr const char* who = "curvature_spin_step";
   require(Mesh{V, F, {}, {}},
-          {.manifold = true,
-           .oriented = true,
-           .no_degenerate = true,
-           .closed = true,
-           .single_component = true,
-           .no_unreferenced = true},
+          kClosedSurface,
           who);
   check_options(options, who);
   const Eigen::Index m = F.rows();

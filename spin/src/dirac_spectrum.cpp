@@ -171,12 +171,7 @@ PencilSolution solve_trimmed_pencil(Eigen::SparseMatrix<double> K, Eigen::Sparse
 DiracSpectrum dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                              const Eigen::VectorXd& rho_in, const DiracSpectrumOptions& options) {
   require(Mesh{V, F, {}, {}},
-          {.manifold = true,
-           .oriented = true,
-           .no_degenerate = true,
-           .closed = true,
-           .single_component = true,
-           .no_unreferenced = true},
+          kClosedSurface,
           "dirac_spectrum");
   const Eigen::Index m = F.rows();
   if (rho_in.size() != 0 && rho_in.size() != m) {

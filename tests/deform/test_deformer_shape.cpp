@@ -8,6 +8,8 @@
 #include "spinmotor/deform/any_deformer.hpp"
 #include "spinmotor/deform/arap.hpp"
 #include "spinmotor/deform/cage_deformer.hpp"
+#include "spinmotor/deform/delta_mush.hpp"
+#include "spinmotor/deform/direct_delta_mush.hpp"
 #include "spinmotor/deform/ffd.hpp"
 #include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/deform/spline_deformer.hpp"
@@ -26,6 +28,8 @@ static_assert(Deformer<FfdDeformer>);
 static_assert(Deformer<CageDeformer>);
 static_assert(Deformer<ArapDeformer>);
 static_assert(Deformer<SkinDeformer>);
+static_assert(Deformer<DeltaMushDeformer>);
+static_assert(Deformer<DirectDeltaMushDeformer>);
 static_assert(!Deformer<Mesh>);
 
 namespace {

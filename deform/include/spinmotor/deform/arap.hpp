@@ -163,6 +163,13 @@ public:
   const Eigen::VectorXi& free_order() const { return free_order_; }
 
 private:
+  // bind phases (arap.cpp)
+  void build_one_ring();
+  int slot(int i, int j) const;
+  void bind_spoke_cells();
+  void bind_rim_cells(const Eigen::MatrixXd& C);
+  void assemble_global_matrix();
+  void find_unreferenced();
   void bind_handles(std::span<const Handle> handles);
   void factorize(const std::vector<int>& constrained);
   void bind_harmonic();

@@ -50,6 +50,10 @@ class DeltaMushDeformer {
                                 const Options& options);
   static DeltaMushDeformer bind(const Mesh& rest, std::span<const Bone> bones,
                                 const Eigen::SparseMatrix<double>& weights, const Options& options);
+  /// The deformer shape (deformer.hpp): rig.skeleton and rig.weights (n×B).
+  static DeltaMushDeformer bind(const Mesh& rest, const Rig& rig, const Options& options) {
+    return bind(rest, rig.skeleton, rig.weights, options);
+  }
 
   /// B posed world frames F_j (unit motors), in bone order. Output: V_out (n×3). Throws Error for a
   /// wrong frame count or a bad frame (naming the bone), and a numerical Error naming the vertex whose
@@ -57,7 +61,8 @@ class DeltaMushDeformer {
   void pose(std::span<const ga::Mot> frames, Eigen::MatrixXd& V_out);
 
   Eigen::Index vertices() const { return skin_.vertices(); }
-  Eigen::Index bones() const { return skin_.bones(); }
+  /// One control per bone (its name, anchored at its rest head), as SkinDeformer.
+  const std::vector<Control>& controls() const { return skin_.controls(); }
   /// The deltas d_i (n×3: components along t, b, n of the smoothed rest frame).
   const Eigen::MatrixXd& deltas() const { return delta_; }
   /// The skinning under the mush (its weights() are the kept weights).

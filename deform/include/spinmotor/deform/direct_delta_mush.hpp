@@ -71,13 +71,18 @@ class DirectDeltaMushDeformer {
                                       const Eigen::MatrixXd& weights, const Options& options);
   static DirectDeltaMushDeformer bind(const Mesh& rest, std::span<const Bone> bones,
                                       const Eigen::SparseMatrix<double>& weights, const Options& options);
+  /// The deformer shape (deformer.hpp): rig.skeleton and rig.weights (n×B).
+  static DirectDeltaMushDeformer bind(const Mesh& rest, const Rig& rig, const Options& options) {
+    return bind(rest, rig.skeleton, rig.weights, options);
+  }
 
   /// B posed world frames F_j (unit motors), in bone order. Output: V_out (n×3). Throws Error for a
   /// wrong frame count or a bad frame, naming the bone.
   void pose(std::span<const ga::Mot> frames, Eigen::MatrixXd& V_out);
 
   Eigen::Index vertices() const { return P_.rows(); }
-  Eigen::Index bones() const { return static_cast<Eigen::Index>(bones_.size()); }
+  /// One control per bone (its name, anchored at its rest head), as SkinDeformer.
+  const std::vector<Control>& controls() const { return controls_; }
   /// Number of kept (vertex, bone) pairs (the storage: 10 doubles each).
   Eigen::Index pairs() const { return static_cast<Eigen::Index>(omega_.size()); }
   /// Ω_ij of a kept pair as the full 4×4 matrix (coordinates about u_i), zero when (i, j) was dropped.
@@ -94,6 +99,7 @@ class DirectDeltaMushDeformer {
 
   Options options_;
   std::vector<Bone> bones_;
+  std::vector<Control> controls_;
   Eigen::MatrixXd P_;                           // rest positions
   Eigen::SparseMatrix<double> W_;               // kept weights
   std::vector<int> offset_;                     // pairs of vertex i: [offset_[i], offset_[i+1])

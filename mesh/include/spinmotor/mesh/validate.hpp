@@ -116,6 +116,15 @@ struct Requirements {
   Eigen::Index min_faces = 1;     ///< at least this many faces
 };
 
+/// What the Dirac operators and curvature flows need: one closed, oriented, manifold surface without
+/// degenerate faces or stray vertices (any genus).
+inline constexpr Requirements kClosedSurface{.manifold = true,
+                                             .oriented = true,
+                                             .no_degenerate = true,
+                                             .closed = true,
+                                             .single_component = true,
+                                             .no_unreferenced = true};
+
 /// Throws Error("<operation> needs <what>: <first offending element>") for the first requirement the
 /// mesh fails, e.g. "spin_transform needs a closed mesh: edge (12, 57) is on a boundary (24 boundary
 /// edges in 1 loop)". Returns the report so the caller need not validate again.

@@ -17,7 +17,7 @@
 #include "spinmotor/deform/delta_mush.hpp"
 #include "spinmotor/deform/direct_delta_mush.hpp"
 #include "spinmotor/deform/skinning.hpp"
-#include "spinmotor/error.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/metrics/deformation_metrics.hpp"
