@@ -113,7 +113,7 @@ const cli::RegisterCommand reg{
           if (mesh.V.rows() == 0) throw Error("spin: " + a->mesh + " has no vertices");
           centre = mesh.V.colwise().mean();
           mesh.V.rowwise() -= centre;
-          radius = mesh.V.rowwise().norm().maxCoeff();
+          radius = std::sqrt(mesh.V.rowwise().squaredNorm().maxCoeff());  // (a vectorised rowwise norm trips GCC 12 -Wuninitialized in its AVX-512 rsqrt intrinsic)
           if (!(radius > 0)) throw Error("spin: all vertices of " + a->mesh + " coincide");
           mesh.V /= radius;
           rho = face_rho_from_image(mesh, read_grayscale_image(a->image), a->rho_scale);

@@ -32,8 +32,9 @@ Run run_cli(const std::string& args) {
   const fs::path base = fs::temp_directory_path() / ("spinmotor_test_cli_help_" + std::to_string(::getpid()));
   fs::create_directories(base);
   const fs::path out = base / "out.txt", err = base / "err.txt";
-  const std::string cmd = "'" + std::string(SPINMOTOR_CLI) + "' " + args + " > '" + out.string() + "' 2> '" +
-                          err.string() + "'";
+  std::string cmd = "'";  // appended, not "'" + std::string&&: GCC 12's -Wrestrict false positive (bug 105329)
+  cmd += SPINMOTOR_CLI;
+  cmd += "' " + args + " > '" + out.string() + "' 2> '" + err.string() + "'";
   const int status = std::system(cmd.c_str());
   Run r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

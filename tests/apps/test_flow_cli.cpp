@@ -76,8 +76,8 @@ TEST_CASE("flow: bad input exits with code 2 and writes nothing", "[cli][flow][e
     bad << "v 0 0 0\nv 1 0 0\nf 1 2 3\n";  // index out of range
   }
   const fs::path in = write_bump(tmp.path);
-  const std::string bad = "'" + (tmp.path / "bad.obj").string() + "'";
-  const std::string good = "'" + in.string() + "'";
+  const std::string bad = spinmotor_test::quoted((tmp.path / "bad.obj").string());
+  const std::string good = spinmotor_test::quoted(in.string());
   for (const std::string& args : {"flow " + bad + " --minimal --out " + tmp.file("o.obj"),
                                   "flow " + bad + " --willmore 0.2 --steps 2 --out " + tmp.file("o.obj"),
                                   "flow " + good + " --out " + tmp.file("o.obj"),

@@ -124,7 +124,7 @@ int run_headless(const Args& a) {
     V = r->V;
   } else if (!a.paints.empty()) {
     const PaintOutcome r = paint(a, s, cam, o.width, o.height, rho);
-    const double moved = (r.V - s.rest().V).rowwise().norm().maxCoeff() / cam.scene_radius;
+    const double moved = std::sqrt((r.V - s.rest().V).rowwise().squaredNorm().maxCoeff()) / cam.scene_radius;
     std::printf("paint: spin transformation Q_mean %.4f, max displacement %.4f of the scene radius (bind %.0f ms, solve %.0f ms)\n",
                 r.q_mean, moved, r.bind_ms, r.solve_ms);
     V = r.V;
