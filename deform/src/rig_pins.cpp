@@ -1,0 +1,182 @@
+// Pins from skin weights: see rig_pins.hpp.
+#include "spinmotor/deform/rig_pins.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <sstream>
+#include <utility>
+
+#include "spinmotor/error.hpp"
+
+namespace spinmotor {
+
+namespace {
+
+void check_inputs(const Eigen::MatrixXd& V, const Eigen::MatrixXd& W, double threshold, const char* who) {
+  if (V.cols() != 3) throw Error(std::string(who) + ": V must be n×3");
+  if (W.rows() != V.rows() || W.cols() < 1) {
+    std::ostringstream s;
+    s << who << ": the weights are " << W.rows() << "×" << W.cols() << ", expected " << V.rows()
+      << "×B (B ≥ 1)";
+    throw Error(s.str());
+  }
+  if (!(threshold > 0 && threshold <= 1)) {
+    std::ostringstream s;
+    s << who << ": threshold " << threshold << " is not in (0, 1]";
+    throw Error(s.str());
+  }
+  for (Eigen::Index i = 0; i < V.rows(); ++i) {
+    if (!V.row(i).allFinite()) {
+      std::ostringstream s;
+      s << who << ": vertex " << i << " has a non-finite coordinate";
+      throw Error(s.str());
+    }
+    double sum = 0;
+    for (Eigen::Index j = 0; j < W.cols(); ++j) {
+      const double w = W(i, j);
+      if (!std::isfinite(w) || w < 0) {
+        std::ostringstream s;
+        s << who << ": weight of vertex " << i << " for bone " << j << " is " << w << " (need finite, ≥ 0)";
+        throw Error(s.str());
+      }
+      sum += w;
+    }
+    if (!(sum > 0)) {
+      std::ostringstream s;
+      s << who << ": vertex " << i << " has no positive weight";
+      throw Error(s.str());
+    }
+  }
+}
+
+/// Dominant weight (normalised) and the two largest bones of row i.
+struct RowTop {
+  double dominant;
+  int first, second;
+};
+
+RowTop row_top(const Eigen::MatrixXd& W, Eigen::Index i) {
+  int a = 0, b = -1;
+  double sum = 0;
+  for (Eigen::Index j = 0; j < W.cols(); ++j) sum += W(i, j);
+  for (Eigen::Index j = 1; j < W.cols(); ++j)
+    if (W(i, j) > W(i, a)) a = static_cast<int>(j);
+  for (Eigen::Index j = 0; j < W.cols(); ++j)
+    if (j != a && (b < 0 || W(i, j) > W(i, b))) b = static_cast<int>(j);
+  return {W(i, a) / sum, a, b};
+}
+
+}  // namespace
+
+Eigen::VectorXi pins_from_weights(const Eigen::MatrixXd& V, const Eigen::MatrixXd& W, double threshold,
+                                  double margin) {
+  check_inputs(V, W, threshold, "pins_from_weights");
+  if (!(margin >= 0) || !std::isfinite(margin)) {
+    std::ostringstream s;
+    s << "pins_from_weights: margin " << margin << " must be finite and ≥ 0";
+    throw Error(s.str());
+  }
+  const Eigen::Index n = V.rows();
+  std::vector<char> candidate(n);
+  std::vector<int> blended;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    candidate[i] = row_top(W, i).dominant >= threshold;
+    if (!candidate[i]) blended.push_back(static_cast<int>(i));
+  }
+  if (margin > 0 && !blended.empty() && n > 0) {
+    // Grid of the blended vertices; cells of size h ≥ margin (enlarged if the grid would exceed 2^20
+    // cells per axis, which only costs more candidates per cell).
+    const Eigen::RowVector3d lo = V.colwise().minCoeff();
+    const double extent = (V.colwise().maxCoeff() - lo).maxCoeff();
+    const double h = std::max(margin, extent / double(1 << 20));
+    auto cell = [&](const Eigen::RowVector3d& p, int axis) {
+      return static_cast<std::int64_t>(std::floor((p[axis] - lo[axis]) / h));
+    };
+    auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) { return (x << 42) | (y << 21) | z; };
+    std::vector<std::pair<std::int64_t, int>> cells;
+    cells.reserve(blended.size());
+    for (const int k : blended) {
+      const Eigen::RowVector3d p = V.row(k);
+      cells.emplace_back(key(cell(p, 0), cell(p, 1), cell(p, 2)), k);
+    }
+    std::sort(cells.begin(), cells.end());
+    const double m2 = margin * margin;
+    const long nl = static_cast<long>(n);
+#pragma omp parallel for schedule(dynamic, 1024) if (nl >= kParallelBelow)
+    for (long i = 0; i < nl; ++i) {
+      if (!candidate[i]) continue;
+      const Eigen::RowVector3d p = V.row(i);
+      const std::int64_t cx = cell(p, 0), cy = cell(p, 1), cz = cell(p, 2);
+      bool near = false;
+      for (std::int64_t dx = -1; dx <= 1 && !near; ++dx)
+        for (std::int64_t dy = -1; dy <= 1 && !near; ++dy)
+          for (std::int64_t dz = -1; dz <= 1 && !near; ++dz) {
+            const std::int64_t x = cx + dx, y = cy + dy, z = cz + dz;
+            if (x < 0 || y < 0 || z < 0 || x >= (1 << 21) || y >= (1 << 21) || z >= (1 << 21)) continue;
+            const std::int64_t kk = key(x, y, z);
+            auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(kk, -1));
+            for (; it != cells.end() && it->first == kk; ++it)
+              if ((V.row(it->second) - p).squaredNorm() <= m2) {
+                near = true;
+                break;
+              }
+          }
+      if (near) candidate[i] = 0;
+    }
+  }
+  std::vector<int> out;
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (candidate[i]) out.push_back(static_cast<int>(i));
+  return Eigen::Map<const Eigen::VectorXi>(out.data(), static_cast<Eigen::Index>(out.size()));
+}
+
+std::vector<JointBlend> joint_blend_bands(const Eigen::MatrixXd& V, const Eigen::MatrixXd& W,
+                                          std::span<const Bone> bones, double threshold) {
+  check_inputs(V, W, threshold, "joint_blend_bands");
+  if (static_cast<Eigen::Index>(bones.size()) != W.cols()) {
+    std::ostringstream s;
+    s << "joint_blend_bands: " << bones.size() << " bones for " << W.cols() << " weight columns";
+    throw Error(s.str());
+  }
+  std::vector<Eigen::Vector3d> axis(bones.size());
+  for (size_t j = 0; j < bones.size(); ++j) {
+    const Eigen::Vector3d d = bones[j].tail - bones[j].head;
+    if (!(d.norm() > 0) || !d.allFinite())
+      throw Error("joint_blend_bands: bone '" + bones[j].name + "' has head == tail (no axis)");
+    axis[j] = d.normalized();
+  }
+  struct Range {
+    Eigen::Index count = 0;
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+  };
+  std::map<std::pair<int, int>, Range> joints;
+  for (Eigen::Index i = 0; i < V.rows(); ++i) {
+    const RowTop t = row_top(W, i);
+    if (t.dominant >= threshold || t.second < 0) continue;
+    const int a = std::min(t.first, t.second), b = std::max(t.first, t.second);
+    Range& r = joints[{a, b}];
+    ++r.count;
+    const Eigen::Vector3d p = V.row(i).transpose();
+    const int ab[2] = {a, b};
+    for (int s = 0; s < 2; ++s) {
+      const double x = axis[ab[s]].dot(p);
+      r.lo[s] = std::min(r.lo[s], x);
+      r.hi[s] = std::max(r.hi[s], x);
+    }
+  }
+  std::vector<JointBlend> out;
+  for (const auto& [k, r] : joints)
+    out.push_back({k.first, k.second, r.count, std::max(r.hi[0] - r.lo[0], r.hi[1] - r.lo[1])});
+  return out;
+}
+
+double default_pin_margin(const Eigen::MatrixXd& V, const Eigen::MatrixXd& W, std::span<const Bone> bones,
+                          double threshold) {
+  double w = 0;
+  for (const JointBlend& j : joint_blend_bands(V, W, bones, threshold)) w = std::max(w, j.width);
+  return 0.25 * w;
+}
+
+}  // namespace spinmotor
