@@ -463,33 +463,6 @@ PinnedCleanupResult PinnedCleanup::cleanup(const Eigen::MatrixXd& V_edit, Eigen:
       e_norm = local_step();
     }
     accelerated = false;
-    if (it == 0 && vertices && m.options.initial_smoothing > 0) {
-      // Initial similarity smoothing: the edit's creases (an LBS elbow folds its inner side) give
-      // cells with wrong rotations, a fold the iteration unfolds slowly; average T over the one-ring
-      // (cotangent weights) a few passes, re-projected onto similarities, before the first global step.
-      std::vector<Eigen::Matrix3d> next(m.cell_T.size());
-      for (int pass = 0; pass < m.options.initial_smoothing; ++pass) {
-#pragma omp parallel for schedule(static) if (nc > kParallelMin)
-        for (long k = 0; k < nc; ++k) {
-          const int i = m.cell_vertex[k];
-          next[k] = m.cell_T[k];
-          if (m.cell_of[i] < 0 || !free_mask[i]) continue;
-          Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-          double wsum = 0;
-          for (int q = m.cell_offset[k]; q < m.cell_offset[k + 1]; ++q) {
-            const double w = std::max(m.cell_w[q], 0.0);
-            A += w * m.cell_T[m.cell_of[m.cell_nbr[q]]];
-            wsum += w;
-          }
-          A = 0.5 * m.cell_T[k] + 0.5 * A / wsum;
-          const Eigen::JacobiSVD<Eigen::Matrix3d> svd(A, Eigen::ComputeFullU | Eigen::ComputeFullV);
-          Eigen::Matrix3d U = svd.matrixU();
-          if ((U * svd.matrixV().transpose()).determinant() < 0) U.col(2) *= -1;
-          next[k] = (svd.singularValues().sum() / 3.0) * U * svd.matrixV().transpose();
-        }
-        m.cell_T.swap(next);
-      }
-    }
     r.energy.push_back(e_norm);
     bool stop = e_norm <= 1e-28;
     if (it > 0 && std::abs(e_norm - e_prev) <= m.options.tolerance * e_norm) stop = true;
@@ -503,6 +476,46 @@ PinnedCleanupResult PinnedCleanup::cleanup(const Eigen::MatrixXd& V_edit, Eigen:
       r.local_ms += ms_since(t0);
       break;
     }
+    // Harmonic start (first step only): the edit's creases (an LBS elbow folds its inner side) make
+    // the similarities fitted at V1 wrong in the free region, and the fold takes the iteration long
+    // to undo. Instead, interpolate the similarities of the pinned cells harmonically over the free
+    // vertices (L_FF x_F = −L_FP x_P for the quaternion of R_i, sign-aligned, and log s_i: the same
+    // factor, 5 columns) and take the first global step with vertex cells only.
+    const bool harmonic = it == 0 && m.options.harmonic_start;
+    if (harmonic) {
+      Eigen::MatrixXd hv(c, 5);
+      Eigen::Quaterniond ref(1, 0, 0, 0);
+      bool have_ref = false;
+      for (Eigen::Index k = 0; k < c; ++k) {
+        const int ci = m.cell_of[m.pins[k]];
+        Eigen::Quaterniond q = ref;
+        double logs = 0;
+        if (ci >= 0) {
+          const double sc = m.cell_T[ci].col(0).norm();
+          if (sc > 0) {
+            q = Eigen::Quaterniond(Eigen::Matrix3d(m.cell_T[ci] / sc));
+            logs = std::log(sc);
+            if (!have_ref) {
+              ref = q;
+              have_ref = true;
+            }
+            if (q.dot(ref) < 0) q.coeffs() *= -1;
+          }
+        }
+        hv.row(k) << q.w(), q.x(), q.y(), q.z(), logs;
+      }
+      const auto th = Clock::now();
+      const Eigen::MatrixXd X = m.solver.solve(hv);
+      r.solve_ms += ms_since(th);
+      for (Eigen::Index k = 0; k < nfree; ++k) {
+        const int i = m.free[k];
+        Eigen::Quaterniond q(X(i, 0), X(i, 1), X(i, 2), X(i, 3));
+        if (!(q.norm() > 1e-12)) continue;  // antipodal pins cancel: keep the fitted similarity
+        q.normalize();
+        m.cell_T[m.cell_of[i]] = std::exp(X(i, 4)) * q.toRotationMatrix();
+      }
+    }
+    const double bv = harmonic ? 1.0 : beta, bf = harmonic ? 0.0 : 1 - beta;
     // Right-hand side b_i (face cells: Σ A_f T_f ∇φ_i; vertex cells: ½ Σ_j w_ij (T_i + T_j)(p_i − p_j))
     // and the constraint gradient g_i, per free vertex.
     double gV = 0;
@@ -510,21 +523,21 @@ PinnedCleanupResult PinnedCleanup::cleanup(const Eigen::MatrixXd& V_edit, Eigen:
     for (long k = 0; k < nfl; ++k) {
       const int i = m.free[k];
       Vec3 b = Vec3::Zero(), g = Vec3::Zero();
-      if (vertices) {
+      if (vertices || harmonic) {
         const int ci = m.cell_of[i];
         const Vec3 pi = m.V0.row(i);
         for (int q = m.cell_offset[ci]; q < m.cell_offset[ci + 1]; ++q) {
           const int j = m.cell_nbr[q];
           b += 0.5 * m.cell_w[q] * ((m.cell_T[ci] + m.cell_T[m.cell_of[j]]) * (pi - Vec3(m.V0.row(j))));
         }
-        b *= beta;
+        b *= bv;
       }
       for (int q = m.inc_offset[k]; q < m.inc_offset[k + 1]; ++q) {
         const auto [f, corner] = m.inc[q];
         const ActiveFace& af = m.active[f];
-        if (faces) {
+        if (faces && !harmonic) {
           const std::array<Vec3, 2>& T = m.T[f];
-          b += (1 - beta) * af.area * (af.grad[2 * corner] * T[0] + af.grad[2 * corner + 1] * T[1]);
+          b += bf * af.area * (af.grad[2 * corner] * T[0] + af.grad[2 * corner + 1] * T[1]);
         }
         if (constrained) {
           const Vec3 vj = V.row(af.v[(corner + 1) % 3]), vk = V.row(af.v[(corner + 2) % 3]);
@@ -572,7 +585,7 @@ PinnedCleanupResult PinnedCleanup::cleanup(const Eigen::MatrixXd& V_edit, Eigen:
     if (depth > 0) {
       gather(Gk);
       f = Gk - x;
-      if (have_prev) {
+      if (have_prev && !harmonic) {
         dF.col(slot) = f - f_prev;
         dG.col(slot) = Gk - G_prev;
         slot = (slot + 1) % depth;

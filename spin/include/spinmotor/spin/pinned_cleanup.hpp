@@ -90,8 +90,9 @@ struct PinnedCleanupOptions {
   double tolerance = 1e-6;   ///< relative energy change that stops the iteration (> 0)
   /// Anderson acceleration depth (differences kept; 0 = plain local/global). See the header comment.
   int anderson = 5;
-  /// Passes of one-ring averaging of the first local step's similarities (vertex cells; 0 = off).
-  int initial_smoothing = 0;
+  /// First global step from the pinned cells' similarities interpolated harmonically over the free
+  /// vertices instead of those fitted to the edit (header comment).
+  bool harmonic_start = true;
   /// Record the area-weighted Q_mean of the whole mesh after every global step (result.q_mean);
   /// costs one pass over all faces per iteration, for convergence reports.
   bool record_quasi_conformal = false;
