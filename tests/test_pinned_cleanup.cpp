@@ -479,7 +479,8 @@ TEST_CASE("pinned cleanup convergence report", "[.][diag]") {
   }
 }
 
-// Hidden: vertex cells then face cells (a polish), on the arm and the sausage.
+// Hidden: mixed cells (beta) against face cells alone, and face cells as a polish after the mixed ones,
+// on the arm and the sausage (Q_mean/Q_max, volume, folded edges, iterations).
 TEST_CASE("pinned cleanup polish experiment", "[.][diag2]") {
   auto folds_of = [](const Mesh& m, const Eigen::MatrixXd& V) {
     const EdgeTopology et = edge_topology(m.F);
@@ -510,7 +511,7 @@ TEST_CASE("pinned cleanup polish experiment", "[.][diag2]") {
       const PinnedCleanupResult r3 = pf.cleanup(E, V3);
       const Quality q1 = quality(m.V, m.F, V), q2 = quality(m.V, m.F, V2), q3 = quality(m.V, m.F, V3);
       std::printf(
-          "%s keep %s: vertex cells Q %.4f/%.3f vol %.4f folds %ld (%d it) | +face polish Q %.4f/%.3f vol "
+          "%s keep %s: mixed cells Q %.4f/%.3f vol %.4f folds %ld (%d it) | +face polish Q %.4f/%.3f vol "
           "%.4f "
           "folds %ld (%d it) | faces only Q %.4f/%.3f folds %ld (%d it)\n",
           name, keep == CleanupKeep::None ? "none" : "auto", q1.q_mean, q1.q_max, r1.measure_ratio(),

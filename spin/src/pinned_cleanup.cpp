@@ -101,7 +101,6 @@ struct PinnedCleanup::Impl {
   std::vector<std::array<Vec3, 2>> T;   // per active face: t1, t2 (the columns of T_f in the rest frame)
   Eigen::MatrixXd B, values, V;
 
-  double volume_of(const Eigen::MatrixXd& X, const std::vector<int>& faces) const;
   double measure_all(const Eigen::MatrixXd& X) const;  // the kept measure (area for None) over all faces
   double measure_fixed(const Eigen::MatrixXd& X) const;
   double measure_active(const Eigen::MatrixXd& X) const;
@@ -461,21 +460,20 @@ PinnedCleanupResult PinnedCleanup::cleanup(const Eigen::MatrixXd& V_edit, Eigen:
       have_prev = false;
       ++r.rejected_accelerations;
       e_norm = local_step();
+      accelerated = false;
     }
-    accelerated = false;
     r.energy.push_back(e_norm);
     bool stop = e_norm <= 1e-28;
     if (it > 0 && std::abs(e_norm - e_prev) <= m.options.tolerance * e_norm) stop = true;
     e_prev = e_norm;
-    if (stop) {
-      r.converged = true;
+    if (stop || it >= m.options.max_iterations) {
+      // Return a plain iterate: it meets the linearised constraint, an Anderson combination need not.
+      if (accelerated) scatter(G_last);
+      r.converged = stop;
       r.local_ms += ms_since(t0);
       break;
     }
-    if (it >= m.options.max_iterations) {
-      r.local_ms += ms_since(t0);
-      break;
-    }
+    accelerated = false;
     // Harmonic start (first step only): the edit's creases (an LBS elbow folds its inner side) make
     // the similarities fitted at V1 wrong in the free region, and the fold takes the iteration long
     // to undo. Instead, interpolate the similarities of the pinned cells harmonically over the free

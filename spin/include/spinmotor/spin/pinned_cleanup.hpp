@@ -12,25 +12,40 @@
 // and gives much of a large bend away; here the pins hold the pose (e.g. the rigid parts of a skinned
 // limb) and only the free region (the blend band around a joint) is made conformal.
 //
-// Energy (as-similar-as-possible, ASAP). With one similarity T_i = s_i R_i (s_i > 0, R_i ∈ SO(3)) per
-// vertex cell, rest edges e_ij = v⁰_j − v⁰_i, current edges e'_ij = v_j − v_i and cotangent weights
-// w_ij = −L_ij (mesh/cotangent_laplacian.hpp, of the rest mesh):
-//   E(V, T) = Σ_i Σ_{j ~ i} w_ij |e'_ij − s_i R_i e_ij|²,
-// the energy of ARAP surface modelling (Sorkine & Alexa 2007, eq. 3–4) with a scale per cell, i.e. the
-// conformal ("as-similar-as-possible") member of that family (Liu et al. 2008, "A local/global
-// approach to mesh parameterization", ASAP). Spin view (Crane, Pinkall & Schröder 2011): T_i e =
-// conj(λ_i) e λ_i for a quaternion λ_i with |λ_i|² = s_i (§2); the global step below is the Poisson
-// problem of §5.6 (Δ f̃ = ∇·ẽ, eq. 8 with the similarity of each edge's cells) with the pins as
-// boundary values, and the local step is the best-fit similarity of §7.2 for a one-ring instead of a
-// face. Conformal maps are exactly the minimisers with E = 0 (every cell a similarity).
+// Energy (as-similar-as-possible, ASAP), two kinds of cells mixed with a weight β ∈ [0, 1]:
+//   E(V, T) = (1 − β) E_faces + β/2 E_vertices,
+//   E_faces    = Σ_f A_f |J_f − T_f|²_F: J_f = Σ_{i∈f} v_i ∇φ_iᵀ the map of face f from its rest plane
+//                (3×2 in an orthonormal frame of that plane; A_f the rest area, ∇φ_i the rest hat-function
+//                gradients), T_f a similarity of that plane into R³ (Liu et al. 2008, "A local/global
+//                approach to mesh parameterization", ASAP; for linear elements E_faces = Σ_f Σ_{ij∈f}
+//                ½ cot θ_k |e'_ij − T_f e_ij|²);
+//   E_vertices = Σ_i Σ_{j~i} w_ij |e'_ij − s_i R_i e_ij|²: one similarity T_i = s_i R_i (R_i ∈ SO(3)) per
+//                vertex for its one-ring spokes, e = rest, e' = current edge vectors, w_ij = −L_ij the
+//                cotangent weights of the rest mesh (ARAP surface modelling, Sorkine & Alexa 2007, eq. 3,
+//                with a scale per cell).
+// (the factor ½ makes both terms 2·area for a unit mismatch). Conformal maps are the zero-energy
+// states of both. Why mixed (measured, tests/test_pinned_cleanup.cpp "polish experiment"): a single
+// triangle cannot tell a fold (its own normal flipped) from a rotation, so face cells alone fold freely
+// (the 90° LBS elbow: Q_mean 1.007 but 28 folded edges, i.e. adjacent normals > 90° apart; the bent
+// sausage: 4; a 180° LBS twist: 620), while vertex cells alone also penalise bending (a one-ring's
+// spokes leave its plane), which is not conformal distortion: bent sausage Q_mean 1.037 (vertex cells)
+// vs 1.029 (β = 0.25) vs 1.018 (faces, folded). β = 0.25 (default) keeps the folds away on the elbow and
+// the sausage. Spin view (Crane, Pinkall & Schröder 2011): every T e = conj(λ) e λ for a quaternion λ,
+// |λ|² = s (§2), the local step is the best-fit similarity of §7.2 (for a face or a one-ring), and the
+// global step is the Poisson problem of §5.6 (Δ f̃ = ∇·ẽ for target edges ẽ = λ̄ e λ, as eq. 8) with
+// the pins as boundary values.
 //
 // Iteration (local/global with a volume or area multiplier), per frame from V = V1:
-//   local   per vertex with a free vertex in its closed one-ring: S_i = Σ_j w_ij e_ij e'_ijᵀ = U Σ Wᵀ,
-//           R_i = W diag(1, 1, det(W Uᵀ)) Uᵀ (the best proper rotation), s_i = tr(R_i S_i) / Σ_j w_ij
-//           |e_ij|² (the best scale). A cell whose current spokes vanish keeps its previous T_i.
-//   global  L V = b(T), b_i = ½ Σ_j w_ij (T_i + T_j)(v⁰_i − v⁰_j) (the ARAP right-hand side, i.e. the
-//           divergence of the rotated and scaled rest edges), with V_P = V1_P and ONE linear
-//           constraint g·V = c that restores the kept measure to first order around the current V_k:
+//   local   faces with a free corner: in frames of the rest plane and of the current triangle's own
+//           plane J_f is the 2×2 [a b; c d], T_f = [α −β'; β' α], α = (a + d)/2, β' = (c − b)/2 (its
+//           conformal part, the closed form of quasi_conformal.hpp). Vertices with a free vertex in their
+//           closed one-ring: S_i = Σ_j w_ij e_ij e'_ijᵀ = U Σ Wᵀ, R_i = W diag(1, 1, det(W Uᵀ)) Uᵀ (via the
+//           closed-form eigenvectors of S Sᵀ, Jacobi SVD when rank < 2), s_i = tr(R_i S_i) / Σ_j w_ij
+//           |e_ij|². A collapsed face or cell keeps its previous similarity.
+//   global  L V = b(T), b_i = (1 − β) Σ_{f∋i} A_f T_f ∇φ_i + β ½ Σ_j w_ij (T_i + T_j)(v⁰_i − v⁰_j) (the
+//           divergence of the rotated-scaled rest edges, the ARAP/ASAP right-hand side; L the cotangent
+//           Laplacian of the rest mesh for both terms), with V_P = V1_P and ONE linear constraint g·V = c
+//           restoring the kept measure to first order around the current V_k:
 //             volume  vol(V) = 1/6 Σ_f v0·(v1 × v2), g_i = ∂vol/∂v_i = 1/6 Σ_{f∋i} v_j × v_k
 //                     ((i, j, k) the face's corners in counter-clockwise order),
 //             area    A(V) = Σ_f ½|e1 × e2|, g_i = ∂A/∂v_i = Σ_{f∋i} ½ n_f × (v_k − v_j) (n_f the unit
@@ -38,23 +53,31 @@
 //           c = target − measure(V_k) + g·V_k. The KKT system [L_FF g_F; g_Fᵀ 0][V_F; μ] = [b̂_F; c]
 //           (b̂ = b − L_FP V1_P) is solved with the factor of L_FF bound once: X_a = L_FF⁻¹ b̂_F,
 //           X_g = L_FF⁻¹ g_F (one back-substitution of 6 columns), V_F = X_a − μ X_g with μ such that
-//           g·V = c. No refactorisation per iteration or per frame. keep = None drops the constraint
-//           (plain ASAP, which shrinks the free region: its energy scales with the square of size).
-//   stop    after the local step of iteration k the energy E_k / Σ_i Σ_j w_ij |e_ij|² (over the cells
-//           above) is recorded; stop when |E_k − E_{k−1}| ≤ tolerance · E_k (k ≥ 1), or E_k ≤ 1e-28 (the
-//           edit is already conformal there: a similarity of the rest mesh comes back unchanged), or
-//           after max_iterations global steps; V is the last global step's. The defaults (tolerance
-//           1e-3, 60 steps) were chosen on the 90° LBS elbow of tests/test_pinned_cleanup.cpp (6k
-//           vertices): Q_mean 1.075 → 1.049 after 1 step, 1.029 after 20, 1.026 after 40, 1.019 after
-//           400 — the iteration is a plain fixed point whose tail converges slowly.
-// Cells = Faces (an option, measured and rejected as the default): one similarity per face, fitted in
-// the face's plane (α = (a + d)/2, β = (c − b)/2 of the 2×2 map between frames of the rest and current
-// planes, the conformal part as in quasi_conformal.hpp), energy Σ_f A_f |J_f − T_f|² and right-hand
-// side b_i = Σ_{f∋i} A_f T_f ∇φ_i. A single triangle cannot tell a fold (its own normal flipped) from
-// a rotation, so folds cost nothing: on the 90° elbow it reaches Q_mean 1.009 but with 16 folded edges
-// (adjacent normals more than 90° apart), on a 180° LBS twist 655; vertex cells: 0 and 9.
-// Faces whose three corners are pinned never change and are skipped, so the per-frame cost scales
-// with the free region (plus O(n) passes in the Dirichlet solve).
+//           g·V = c. No refactorisation per iteration or per frame. keep = None drops the constraint.
+//   start   (harmonic_start, default) the first global step does not use the similarities fitted to V1
+//           in the free region (an LBS elbow folds its inner side, and the fold then takes the
+//           iteration 100+ steps to undo): the pinned cells' similarities (quaternion of R, sign-aligned,
+//           and log s) are interpolated harmonically over the free vertices (L_FF x_F = −L_FP x_P, the
+//           same factor, 5 columns) and that step uses the vertex cells only. 90° elbow, 6k vertices:
+//           36 steps to the tolerance; at tolerance 1e-6, 65 steps instead of 155 from V1,
+//           the same final Q.
+//   accel.  Anderson acceleration of the fixed point x -> G(x) on the free coordinates (Peng et al.
+//           2018, "Anderson acceleration for geometry optimization and physics simulation"): x_{k+1} =
+//           G_k − ΔG γ, γ = argmin |f_k − ΔF γ|, f = G(x) − x, the last `anderson` differences; a step
+//           whose energy rises is replaced by the plain iterate and the history restarts. Affine
+//           combinations keep the pins (not part of x) exact; the returned V is a plain iterate.
+//   stop    after each local step the energy E_k (normalised by its rest scale, 2 × area) is recorded;
+//           stop when |E_k − E_{k−1}| ≤ tolerance · E_k (k ≥ 1), or E_k ≤ 1e-28 (the edit is already
+//           conformal there: a similarity of the rest mesh comes back unchanged, no step taken), or after
+//           max_iterations global steps. Defaults (1e-4, 100) from the 90° elbow: Q_mean/Q_max 1.025/1.25
+//           after 5 steps, 1.015/1.19 after 20, 1.0147/1.163 at the stop (36), unchanged at 150.
+// Faces whose three corners are pinned never change and are skipped, so the per-frame cost scales with
+// the free region (plus O(n) passes in the Dirichlet solve).
+//
+// Limits (measured, tests/test_pinned_cleanup.cpp): a twist of the free band by 90° stays near Q_mean
+// 1.26 (LBS 1.28): a band twisted between two rigid ends is sheared, not conformal, and the iteration
+// finds no better state; a 180° LBS twist (the band collapsed onto the axis) cleans up to Q_mean 1.03
+// but keeps a few folded edges (Q_max 2.4).
 //
 // Inputs: bind(rest, pins): rest mesh (triangles, no degenerate face; closed for keep = Volume), pins
 // (vertex indices; order and repeats do not matter). cleanup(V_edit, V_out): V_edit n×3 finite.
@@ -84,10 +107,10 @@ enum class CleanupKeep {
 
 struct PinnedCleanupOptions {
   CleanupKeep keep = CleanupKeep::Auto;
-  /// β ∈ [0, 1]: the energy is (1 − β) E_faces + β/2 E_vertices (header comment); 1 = vertex cells only.
+  /// β ∈ [0, 1]: the energy is (1 − β) E_faces + β/2 E_vertices (header comment); 0 = face cells only.
   double vertex_cell_weight = 0.25;
-  int max_iterations = 300;  ///< global steps per frame (≥ 1)
-  double tolerance = 1e-6;   ///< relative energy change that stops the iteration (> 0)
+  int max_iterations = 100;  ///< global steps per frame (≥ 1)
+  double tolerance = 1e-4;   ///< relative energy change that stops the iteration (> 0)
   /// Anderson acceleration depth (differences kept; 0 = plain local/global). See the header comment.
   int anderson = 5;
   /// First global step from the pinned cells' similarities interpolated harmonically over the free
