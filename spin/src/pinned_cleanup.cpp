@@ -364,14 +364,14 @@ PinnedCleanupResult PinnedCleanup::cleanup(const Eigen::MatrixXd& V_edit, Eigen:
   const long nfl = static_cast<long>(nfree);
 
   const long nc = static_cast<long>(m.cell_vertex.size());
-  std::vector<char> free_mask(m.n, 0);
-  for (Eigen::Index k = 0; k < nfree; ++k) free_mask[m.free[k]] = 1;
   const double beta = m.options.vertex_cell_weight;  // (1 − β) face cells + β vertex cells
-  const bool faces = beta<1, vertices = beta> 0;
+  const bool faces = beta < 1;
+  const bool vertices = beta > 0;
   for (auto& T : m.cell_T) T = Eigen::Matrix3d::Identity();
   const double e_scale = (1 - beta) * 2 * m.active_area + 0.5 * beta * m.cell_dsum;
 
-  auto local_step = [&]() -> double {
+  // fit_vertices: fit the vertex cells (also when β = 0, for the harmonic start's pinned values).
+  auto local_step = [&](bool fit_vertices) -> double {
     double energy = 0, energy_v = 0;
     long fallback = 0;
     if (faces) {
@@ -396,7 +396,7 @@ PinnedCleanupResult PinnedCleanup::cleanup(const Eigen::MatrixXd& V_edit, Eigen:
         energy += af.area * ((c1 - T[0]).squaredNorm() + (c2 - T[1]).squaredNorm());
       }
     }
-    if (vertices) {
+    if (fit_vertices) {
       // Local step, vertex cells: T_i = s_i R_i, the best similarity of the cotangent-weighted spokes
       // (3D Procrustes with scale): S_i = Σ_j w_ij e_ij e'_ijᵀ = U Σ Wᵀ, R_i = W diag(1, 1, ±1) Uᵀ,
       // s_i = tr(R_i S_i) / Σ_j w_ij |e_ij|²; cell energy Σ w|e'|² − s_i tr(R_i S_i).
@@ -452,14 +452,14 @@ PinnedCleanupResult PinnedCleanup::cleanup(const Eigen::MatrixXd& V_edit, Eigen:
   double e_prev = -1;
   for (int it = 0;; ++it) {
     auto t0 = Clock::now();
-    double e_norm = local_step();
+    double e_norm = local_step(vertices || (it == 0 && m.options.harmonic_start));
     if (accelerated && e_norm > e_prev) {
       scatter(G_last);  // reject the Anderson step
       hist = 0;
       slot = 0;
       have_prev = false;
       ++r.rejected_accelerations;
-      e_norm = local_step();
+      e_norm = local_step(vertices);
       accelerated = false;
     }
     r.energy.push_back(e_norm);
