@@ -612,3 +612,16 @@ TEST_CASE("pinned cleanup keep comparison", "[.][keep]") {
   }
   run("open tube", t, pins_from_weights(t.V, W, 0.999, 0.5), Et);
 }
+
+// Hidden: pins_from_weights on a 1M-vertex arm.
+TEST_CASE("pins_from_weights at 1M vertices", "[.][pins1m]") {
+  const Arm a = make_arm(1200, 840);
+  const auto t0 = std::chrono::steady_clock::now();
+  const Eigen::VectorXi pins = pins_from_weights(a.mesh.V, a.W, 0.999, 0.5);
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  const auto t1 = std::chrono::steady_clock::now();
+  const double margin = default_pin_margin(a.mesh.V, a.W, a.bones);
+  const double ms2 = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+  std::printf("1M arm (%lld vertices): %lld pins in %.0f ms; default margin %.4f in %.0f ms\n",
+              static_cast<long long>(a.mesh.V.rows()), static_cast<long long>(pins.size()), ms, margin, ms2);
+}

@@ -86,42 +86,74 @@ Eigen::VectorXi pins_from_weights(const Eigen::MatrixXd& V, const Eigen::MatrixX
     if (!candidate[i]) blended.push_back(static_cast<int>(i));
   }
   if (margin > 0 && !blended.empty() && n > 0) {
-    // Grid of the blended vertices; cells of size h ≥ margin (enlarged if the grid would exceed 2^20
-    // cells per axis, which only costs more candidates per cell).
-    const Eigen::RowVector3d lo = V.colwise().minCoeff();
-    const double extent = (V.colwise().maxCoeff() - lo).maxCoeff();
-    const double h = std::max(margin, extent / double(1 << 20));
-    auto cell = [&](const Eigen::RowVector3d& p, int axis) {
-      return static_cast<std::int64_t>(std::floor((p[axis] - lo[axis]) / h));
-    };
-    auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) { return (x << 42) | (y << 21) | z; };
-    std::vector<std::pair<std::int64_t, int>> cells;
-    cells.reserve(blended.size());
-    for (const int k : blended) {
-      const Eigen::RowVector3d p = V.row(k);
-      cells.emplace_back(key(cell(p, 0), cell(p, 1), cell(p, 2)), k);
+    // Dense grid (CSR) of the blended vertices over the bounding box, cells of size h = margin/2,
+    // doubled while the grid would have more than max(4n, 2^16) cells (which only costs more points per
+    // cell); a candidate looks at the cells within ceil(margin/h) of its own, skips those whose box is
+    // farther than the margin, and stops at the first non-empty box lying entirely within the margin
+    // or at the first blended vertex within it.
+    const Eigen::RowVector3d lo = V.colwise().minCoeff(), ext = V.colwise().maxCoeff() - lo;
+    double h = 0.5 * margin;
+    std::int64_t dims[3];
+    const double max_cells = std::max(4.0 * static_cast<double>(n), 65536.0);
+    for (;;) {
+      double total = 1;
+      for (int k = 0; k < 3; ++k) total *= std::floor(ext[k] / h) + 1;
+      if (total <= max_cells) break;
+      h *= 2;
     }
-    std::sort(cells.begin(), cells.end());
+    for (int k = 0; k < 3; ++k) dims[k] = static_cast<std::int64_t>(std::floor(ext[k] / h)) + 1;
+    const int R = static_cast<int>(std::ceil(margin / h));
+    auto coord = [&](double x, int axis) {
+      return std::clamp(static_cast<std::int64_t>(std::floor((x - lo[axis]) / h)), std::int64_t(0),
+                        dims[axis] - 1);
+    };
+    auto index = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+      return (z * dims[1] + y) * dims[0] + x;
+    };
+    std::vector<int> start(static_cast<size_t>(dims[0] * dims[1] * dims[2]) + 1, 0), pts(blended.size());
+    for (const int k : blended) ++start[index(coord(V(k, 0), 0), coord(V(k, 1), 1), coord(V(k, 2), 2)) + 1];
+    for (size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+    {
+      std::vector<int> fill(start.begin(), start.end() - 1);
+      for (const int k : blended)
+        pts[fill[index(coord(V(k, 0), 0), coord(V(k, 1), 1), coord(V(k, 2), 2))]++] = k;
+    }
     const double m2 = margin * margin;
     const long nl = static_cast<long>(n);
 #pragma omp parallel for schedule(dynamic, 1024) if (nl >= kParallelBelow)
     for (long i = 0; i < nl; ++i) {
       if (!candidate[i]) continue;
       const Eigen::RowVector3d p = V.row(i);
-      const std::int64_t cx = cell(p, 0), cy = cell(p, 1), cz = cell(p, 2);
+      const std::int64_t c[3] = {coord(p[0], 0), coord(p[1], 1), coord(p[2], 2)};
       bool near = false;
-      for (std::int64_t dx = -1; dx <= 1 && !near; ++dx)
-        for (std::int64_t dy = -1; dy <= 1 && !near; ++dy)
-          for (std::int64_t dz = -1; dz <= 1 && !near; ++dz) {
-            const std::int64_t x = cx + dx, y = cy + dy, z = cz + dz;
-            if (x < 0 || y < 0 || z < 0 || x >= (1 << 21) || y >= (1 << 21) || z >= (1 << 21)) continue;
-            const std::int64_t kk = key(x, y, z);
-            auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(kk, -1));
-            for (; it != cells.end() && it->first == kk; ++it)
-              if ((V.row(it->second) - p).squaredNorm() <= m2) {
+      for (std::int64_t z = std::max<std::int64_t>(0, c[2] - R);
+           z <= std::min(dims[2] - 1, c[2] + R) && !near; ++z)
+        for (std::int64_t y = std::max<std::int64_t>(0, c[1] - R);
+             y <= std::min(dims[1] - 1, c[1] + R) && !near; ++y)
+          for (std::int64_t x = std::max<std::int64_t>(0, c[0] - R); x <= std::min(dims[0] - 1, c[0] + R);
+               ++x) {
+            const std::int64_t cid = index(x, y, z);
+            if (start[cid] == start[cid + 1]) continue;
+            const std::int64_t g[3] = {x, y, z};
+            double dmin2 = 0, dmax2 = 0;
+            for (int k = 0; k < 3; ++k) {
+              const double b0 = lo[k] + static_cast<double>(g[k]) * h, b1 = b0 + h;
+              const double below = std::max({b0 - p[k], p[k] - b1, 0.0});
+              const double far = std::max(std::abs(p[k] - b0), std::abs(p[k] - b1));
+              dmin2 += below * below;
+              dmax2 += far * far;
+            }
+            if (dmin2 > m2) continue;
+            if (dmax2 <= m2) {
+              near = true;
+              break;
+            }
+            for (int q = start[cid]; q < start[cid + 1]; ++q)
+              if ((V.row(pts[q]) - p).squaredNorm() <= m2) {
                 near = true;
                 break;
               }
+            if (near) break;
           }
       if (near) candidate[i] = 0;
     }

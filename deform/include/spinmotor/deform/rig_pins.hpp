@@ -18,9 +18,13 @@
 // scalar margin for the whole rig: conservative for small joints, whose free ring is then wider than
 // needed).
 //
-// Cost: O(n log n) — the blended vertices are bucketed in a uniform grid of cell size margin (sorted
-// cell keys, binary search), each candidate pin looks at its 27 neighbouring cells. Parallel over
-// vertices (OpenMP).
+// Cost: O(n) for a surface sampled at about the margin or finer — the blended vertices are bucketed
+// in a dense grid (CSR) of cell size margin/2 over the bounding box (coarsened while it would exceed
+// max(4n, 2^16) cells); each candidate pin visits the cells within the margin, skipping boxes farther
+// than it and accepting a non-empty box entirely within it without looking at its points. Parallel
+// over vertices (OpenMP). Measured on the test's 1M-vertex arm (capsule(1, 6, 1200, 840), margin 0.5,
+// shared 2-core machine): 0.5 s (the sorted-key grid with 27 cells of size margin it replaced: 2.3 s;
+// tests/test_pinned_cleanup.cpp "pins_from_weights at 1M vertices", hidden).
 #include <Eigen/Core>
 #include <span>
 #include <vector>
