@@ -9,6 +9,10 @@
 // curvature_spin_flow.hpp) in --steps steps, then place the result on the edit by the best similarity.
 // On the 90°-bent sausage it keeps 67% of the bend at Q_mean 1.013 (the §7.2 snap: 46%, Q_mean 1.008);
 // closed meshes only.
+//
+// --mode pinned (--pin FILE [--keep auto|volume|area|none]; the default mode when --pin is given): the
+// pose-keeping conformal cleanup (spin/pinned_cleanup.hpp, snap_pinned.cpp): the pinned vertices stay
+// exactly where EDITED has them, the rest is made conformal at the rest volume (area if open).
 #include <nlohmann/json.hpp>
 
 #include <chrono>
@@ -19,6 +23,7 @@
 #include <string>
 
 #include "command.hpp"
+#include "snap_pinned.hpp"
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/metrics/area_distortion.hpp"
@@ -35,7 +40,7 @@ const cli::RegisterCommand reg{
     "snap", "Snap an edited mesh onto its nearest spin transformation (conformal deformation) of the rest mesh",
     [](CLI::App& sub) {
       struct Args {
-        std::string rest, edited, out, problem = "standard", align = "similarity", mode = "spin";
+        std::string rest, edited, out, problem = "standard", align = "similarity", mode = "spin", pin, keep = "auto";
         double tradeoff = 1.0, area_constraint = 0.0;
         int smooth = 0, steps = 4;
         bool json = false, quiet = false;
@@ -58,10 +63,17 @@ const cli::RegisterCommand reg{
                      "linear-blend-skinned elbows, whose rho has spikes)")
           ->check(CLI::NonNegativeNumber)
           ->capture_default_str();
-      sub.add_option("--mode", a->mode,
-                     "spin: nearest spin transformation (§7.2); shape: extrude toward the edit's curvature "
-                     "(Le Folgoc et al. 2019; keeps more of a large bend, closed meshes)")
-          ->check(CLI::IsMember({"spin", "shape"}))
+      CLI::Option* mode_opt =
+          sub.add_option("--mode", a->mode,
+                         "spin: nearest spin transformation (§7.2); shape: extrude toward the edit's curvature "
+                         "(Le Folgoc et al. 2019; keeps more of a large bend, closed meshes); pinned: conformal "
+                         "cleanup keeping the --pin vertices in place (the default when --pin is given)")
+              ->check(CLI::IsMember({"spin", "shape", "pinned"}))
+              ->capture_default_str();
+      sub.add_option("--pin", a->pin, "--mode pinned: file of 0-based vertex indices kept exactly where EDITED has them "
+                                      "(one per line, '#' comments)");
+      sub.add_option("--keep", a->keep, "--mode pinned: measure kept at its rest value (auto: volume if closed, else area)")
+          ->check(CLI::IsMember({"auto", "volume", "area", "none"}))
           ->capture_default_str();
       sub.add_option("--steps", a->steps, "--mode shape: extrusion steps")->check(CLI::Range(1, 1000))->capture_default_str();
       sub.add_option("--area-constraint", a->area_constraint, "--mode shape: area soft constraint epsilon (0 = off)")
@@ -73,8 +85,9 @@ const cli::RegisterCommand reg{
           "Examples:\n"
           "  spinmotor snap rest.obj posed.obj --out snapped.obj                 # nearest spin transformation\n"
           "  spinmotor snap rest.obj posed.obj --out half.obj --tradeoff 0.5     # halfway between edit and conformal\n"
-          "  spinmotor snap arm.obj arm-lbs.obj --out arm-clean.obj --smooth-rho 20 --json   # creased skinning edits");
-      sub.callback([a] {
+          "  spinmotor snap arm.obj arm-lbs.obj --out arm-clean.obj --smooth-rho 20 --json   # creased skinning edits\n"
+          "  spinmotor snap arm.obj arm-lbs.obj --pin rigid.txt --out arm-clean.obj      # keep the pose: pinned mode");
+      sub.callback([a, mode_opt] {
         const Mesh rest = read_mesh(a->rest);
         const Mesh edited = read_mesh(a->edited);
         if (rest.V.rows() != edited.V.rows() || rest.F.rows() != edited.F.rows()) {
@@ -92,6 +105,12 @@ const cli::RegisterCommand reg{
               << rest.F(f, 2) << ") (the edit must keep the faces)";
             throw Error(m.str());
           }
+        if (!a->pin.empty() && mode_opt->count() == 0) a->mode = "pinned";
+        if (a->mode == "pinned") {
+          cli::snap_pinned(rest, edited, {a->rest, a->pin, a->out, a->keep, a->json, a->quiet});
+          return;
+        }
+        if (!a->pin.empty()) throw Error("snap: --pin is used by --mode pinned only (not --mode " + a->mode + ")");
         if (a->mode == "shape") {
           const auto t0 = std::chrono::steady_clock::now();
           CurvatureSpinOptions co;

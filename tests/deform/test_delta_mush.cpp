@@ -559,7 +559,7 @@ TEST_CASE("delta mush: bad input names the vertex, bone, edge or option", "[mush
 
 TEST_CASE("delta mush: pose allocates nothing from the second frame on (DM, DDM)", "[mush]") {
 #if SPINMOTOR_COUNT_MALLOC
-  const Mesh m = torus(2.0, 0.6, 40, 20);  // serial (below kParallelBelow): no OpenMP team to set up
+  const Mesh m = torus(2.0, 0.6, 40, 20);  // serial (below parallel::kMotorBlend): no OpenMP team to set up
   std::mt19937 rng(29);
   const auto bones = six_bones();
   const MatrixXd W = random_weights(m.V.rows(), 6, rng);

@@ -21,7 +21,7 @@
 //
 // pose(): one SkinDeformer pose, k smoothing sweeps over the one-rings, one sweep for the normals (over
 // each vertex's incident faces, so no atomics) and the frames; parallel over vertices (OpenMP, from
-// kParallelBelow vertices on); no allocation after the first call (tested).
+// parallel::kMotorBlend vertices on); no allocation after the first call (tested).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <array>

@@ -40,7 +40,7 @@
 // With p = 0 iterations Ψ = I, p̄ = 0 and the result is LBS.
 //
 // pose(): B bone matrices, then per vertex its kept pairs (≈ the bones within the smoothing's reach),
-// one 3×3 SVD (Eigen::JacobiSVD); parallel over vertices (OpenMP, from kParallelBelow vertices on),
+// one 3×3 SVD (Eigen::JacobiSVD); parallel over vertices (OpenMP, from parallel::kMotorBlend vertices on),
 // no allocation after the first call (tested).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
