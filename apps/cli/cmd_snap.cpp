@@ -40,7 +40,7 @@ const cli::RegisterCommand reg{
     "snap", "Snap an edited mesh onto its nearest spin transformation (conformal deformation) of the rest mesh",
     [](CLI::App& sub) {
       struct Args {
-        std::string rest, edited, out, problem = "standard", align = "similarity", mode = "spin", pin, keep = "auto";
+        std::string rest, edited, out, problem = "standard", align = "similarity", mode = "free", pin, keep = "auto";
         double tradeoff = 1.0, area_constraint = 0.0;
         int smooth = 0, steps = 4;
         bool json = false, quiet = false;
@@ -65,15 +65,15 @@ const cli::RegisterCommand reg{
           ->capture_default_str();
       CLI::Option* mode_opt =
           sub.add_option("--mode", a->mode,
-                         "spin: nearest spin transformation (§7.2); shape: extrude toward the edit's curvature "
+                         "free (or spin): nearest spin transformation (§7.2); shape: extrude toward the edit's curvature "
                          "(Le Folgoc et al. 2019; keeps more of a large bend, closed meshes); pinned: conformal "
                          "cleanup keeping the --pin vertices in place (the default when --pin is given)")
-              ->check(CLI::IsMember({"spin", "shape", "pinned"}))
+              ->check(CLI::IsMember(option_values<SnapMode>()))
               ->capture_default_str();
       sub.add_option("--pin", a->pin, "--mode pinned: file of 0-based vertex indices kept exactly where EDITED has them "
                                       "(one per line, '#' comments)");
       sub.add_option("--keep", a->keep, "--mode pinned: measure kept at its rest value (auto: volume if closed, else area)")
-          ->check(CLI::IsMember({"auto", "volume", "area", "none"}))
+          ->check(CLI::IsMember(option_values<CleanupKeep>()))
           ->capture_default_str();
       sub.add_option("--steps", a->steps, "--mode shape: extrusion steps")->check(CLI::Range(1, 1000))->capture_default_str();
       sub.add_option("--area-constraint", a->area_constraint, "--mode shape: area soft constraint epsilon (0 = off)")
@@ -105,13 +105,14 @@ const cli::RegisterCommand reg{
               << rest.F(f, 2) << ") (the edit must keep the faces)";
             throw Error(m.str());
           }
-        if (!a->pin.empty() && mode_opt->count() == 0) a->mode = "pinned";
-        if (a->mode == "pinned") {
+        const SnapMode mode =
+            !a->pin.empty() && mode_opt->count() == 0 ? SnapMode::Pinned : parse_option<SnapMode>(a->mode);
+        if (mode == SnapMode::Pinned) {
           cli::snap_pinned(rest, edited, {a->rest, a->pin, a->out, a->keep, a->json, a->quiet});
           return;
         }
         if (!a->pin.empty()) throw Error("snap: --pin is used by --mode pinned only (not --mode " + a->mode + ")");
-        if (a->mode == "shape") {
+        if (mode == SnapMode::Shape) {
           const auto t0 = std::chrono::steady_clock::now();
           CurvatureSpinOptions co;
           co.alpha = 0.05;  // the extrusion default (curvature_spin_flow.hpp)

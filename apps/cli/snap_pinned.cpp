@@ -18,10 +18,7 @@ void snap_pinned(const Mesh& rest, const Mesh& edited, const SnapPinnedArgs& a) 
   if (a.pin_file.empty()) throw Error("snap: --mode pinned needs --pin FILE (the vertices to keep in place)");
   const Eigen::VectorXi pins = read_pin_file(a.pin_file, rest.V.rows());
   PinnedCleanupOptions o;
-  o.keep = a.keep == "volume" ? CleanupKeep::Volume
-           : a.keep == "area" ? CleanupKeep::Area
-           : a.keep == "none" ? CleanupKeep::None
-                              : CleanupKeep::Auto;
+  o.keep = parse_option<CleanupKeep>(a.keep, "snap: --keep: ");
   PinnedCleanup pc = PinnedCleanup::bind(rest, pins, o);
   Eigen::MatrixXd V;
   const PinnedCleanupResult r = pc.cleanup(edited.V, V);
@@ -33,7 +30,7 @@ void snap_pinned(const Mesh& rest, const Mesh& edited, const SnapPinnedArgs& a) 
   const char* kept = r.kept == CleanupKeep::Volume ? "volume" : r.kept == CleanupKeep::Area ? "area" : "none";
   const double before = r.rest_measure != 0 ? r.edit_measure / r.rest_measure : 1.0;
   auto finite = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
-  if (a.json) {
+  const std::string kept(option_name(r.kept));
     std::cout << nlohmann::json{{"mode", "pinned"},
                                 {"vertices", rest.V.rows()},
                                 {"faces", rest.F.rows()},

@@ -16,6 +16,7 @@
 #include "spinmotor/scene/deformer_registry.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
 #include "spinmotor/spin/curvature_spin_flow.hpp"
+#include "spinmotor/spin/pinned_cleanup.hpp"
 
 namespace spinmotor::scene {
 
@@ -51,8 +52,23 @@ RunResult run_scene(const Scene& scene, const RunProgress& progress) {
   // analysis), then one snap per frame.
   // Shape mode (Le Folgoc 2019 extrusion toward the edit's curvature) binds nothing: each frame runs
   // its own extrusion from the rest mesh.
+  // Pinned mode (the pose-keeping cleanup): bound once for the rest mesh and the pinned handles' vertices.
   std::optional<ConformalSnap> snapper;
-  if (scene.snap.enabled && !scene.snap.shape) {
+  std::optional<PinnedCleanup> cleaner;
+  if (scene.snap.enabled && scene.snap.mode == SnapMode::Pinned) {
+    std::vector<int> pins;
+    for (int h : scene.snap.pin_handles)
+      for (Eigen::Index k = 0; k < scene.handles[h].vertices.size(); ++k) pins.push_back(scene.handles[h].vertices[k]);
+    try {
+      PinnedCleanupOptions o;
+      o.keep = scene.snap.keep;
+      o.max_iterations = scene.snap.iterations;
+      cleaner.emplace(PinnedCleanup::bind(scene.mesh, pins, o));
+    } catch (const Error& e) {
+      throw Error(scene.name() + ": /snap: " + e.what(), e.kind());
+    }
+  }
+  if (scene.snap.enabled && scene.snap.mode == SnapMode::Free) {
     try {
       snapper.emplace(scene.mesh, ConformalSnapOptions{.tradeoff = scene.snap.tradeoff,
                                                        .rho_smoothing = scene.snap.smooth_rho});
@@ -87,7 +103,40 @@ RunResult run_scene(const Scene& scene, const RunProgress& progress) {
     for (const auto& [k, v] : extra.items()) j[k] = v;
     for (const auto& [k, v] : bind_extra.items()) j[k] = v;
     j["metrics"] = to_json(m);
-    if (scene.snap.enabled && scene.snap.shape) {
+    if (cleaner) {
+      const auto t2 = clock::now();
+      Eigen::MatrixXd V_clean;
+      PinnedCleanupResult pr;
+      DeformationMetrics ms;
+      try {
+        pr = cleaner->cleanup(fr.V, V_clean);
+        ms = compute_metrics(scene.mesh, V_clean);
+      } catch (const Error& e) {
+        throw Error(scene.name() + ": snap (pinned mode): " + e.what(), e.kind());
+      }
+      const VertexDistances dist = vertex_distances(fr.V, V_clean, Alignment::None);
+      const bool first = f == 0;  // the bind is paid by the first frame
+      j["snap"] = {{"mode", "pinned"},
+                   {"pins", cleaner->pins().size()},
+                   {"keep", option_name(pr.kept)},
+                   {"q_mean", detail::finite_or_null(ms.q_mean)},
+                   {"q_max", detail::finite_or_null(ms.q_max)},
+                   {"area_distortion", detail::finite_or_null(ms.area_distortion)},
+                   {"measure_ratio", pr.measure_ratio()},  // kept volume or area / rest
+                   {"edit_measure_ratio", pr.rest_measure != 0 ? pr.edit_measure / pr.rest_measure : 1.0},
+                   {"pin_error", pr.pin_error},
+                   {"iterations", pr.iterations},
+                   {"converged", pr.converged},
+                   {"rms_edit_to_snap", dist.rms},  // relative to the edit's bounding-box diagonal
+                   {"max_edit_to_snap", dist.max},
+                   {"bind_ms", first ? cleaner->bind_ms() : 0.0},
+                   {"total_ms", (first ? cleaner->bind_ms() : 0.0) +
+                                    std::chrono::duration<double, std::milli>(clock::now() - t2).count()},
+                   {"metrics", to_json(ms)}};
+      fr.V_unsnapped = std::move(fr.V);
+      fr.V = std::move(V_clean);
+    }
+    if (scene.snap.enabled && scene.snap.mode == SnapMode::Shape) {
       const auto t2 = clock::now();
       CurvatureFlow flow;
       DeformationMetrics ms;
@@ -128,7 +177,7 @@ RunResult run_scene(const Scene& scene, const RunProgress& progress) {
       }
       const VertexDistances dist = vertex_distances(fr.V, sr.V, Alignment::None);
       const bool first = f == 0;  // the bind is paid by the first frame
-      j["snap"] = {{"mode", "spin"},
+      j["snap"] = {{"mode", option_name(SnapMode::Free)},
                    {"tradeoff", scene.snap.tradeoff},
                    {"smooth_rho", scene.snap.smooth_rho},
                    {"q_mean", detail::finite_or_null(ms.q_mean)},

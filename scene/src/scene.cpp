@@ -307,15 +307,46 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
   if (auto it = doc.find("snap"); it != doc.end()) {
     s.snap.enabled = value_or(*it, "enabled", true);
     s.snap.tradeoff = value_or(*it, "tradeoff", 1.0);
-    s.snap.shape = value_or(*it, "mode", std::string("spin")) == "shape";
+    const bool pins = it->contains("pins");
+    s.snap.mode = pins ? SnapMode::Pinned : SnapMode::Free;
+    if (it->contains("mode")) {
+      try {
+        s.snap.mode = parse_option<SnapMode>((*it)["mode"].get<std::string>());
+      } catch (const Error& e) {
+        throw s.error("/snap/mode", e.what());
+      }
+    }
+    const bool shape = s.snap.mode == SnapMode::Shape, pinned = s.snap.mode == SnapMode::Pinned;
     s.snap.smooth_rho = value_or(*it, "smooth_rho", 0);
     s.snap.steps = value_or(*it, "steps", 4);
     s.snap.area_constraint = value_or(*it, "area_constraint", 0.0);
-    if (s.snap.shape && (it->contains("tradeoff") || it->contains("smooth_rho")))
-      throw s.error("/snap", "`tradeoff` and `smooth_rho` belong to mode \"spin\"; mode \"shape\" takes `steps` and "
-                             "`area_constraint`");
-    if (!s.snap.shape && (it->contains("steps") || it->contains("area_constraint")))
+    if (!(s.snap.mode == SnapMode::Free) && (it->contains("tradeoff") || it->contains("smooth_rho")))
+      throw s.error("/snap", "`tradeoff` and `smooth_rho` belong to mode \"free\"; mode \"shape\" takes `steps` and "
+                             "`area_constraint`, mode \"pinned\" takes `pins`, `keep` and `iterations`");
+    if (!shape && (it->contains("steps") || it->contains("area_constraint")))
       throw s.error("/snap", "`steps` and `area_constraint` belong to mode \"shape\"");
+    if (!pinned && (pins || it->contains("keep") || it->contains("iterations")))
+      throw s.error("/snap", "`pins`, `keep` and `iterations` belong to mode \"pinned\"");
+    if (pinned) {
+      // Pins: "handles" (every handle's vertices) or a list of handle names.
+      const nlohmann::json p = pins ? (*it)["pins"] : nlohmann::json("handles");
+      if (p.is_string()) {
+        for (std::size_t h = 0; h < s.handles.size(); ++h) s.snap.pin_handles.push_back(static_cast<int>(h));
+      } else {
+        for (std::size_t k = 0; k < p.size(); ++k)
+          s.snap.pin_handles.push_back(s.handle_index(s.handle(p[k].get<std::string>(), "/snap/pins/" + std::to_string(k)).name));
+      }
+      if (s.snap.pin_handles.empty())
+        throw s.error("/snap/pins", "mode \"pinned\" needs at least one handle to pin (this scene has none)");
+      if (it->contains("keep")) {
+        try {
+          s.snap.keep = parse_option<CleanupKeep>((*it)["keep"].get<std::string>());
+        } catch (const Error& e) {
+          throw s.error("/snap/keep", e.what());
+        }
+      }
+      s.snap.iterations = value_or(*it, "iterations", s.snap.iterations);
+    }
   }
 
   // Outputs.

@@ -276,14 +276,14 @@ TEST_CASE("scene snap modes: spin with rho smoothing, shape (extrusion), keys of
   CHECK(spin.snap.smooth_rho == 10);
   const RunResult rs = run_scene(spin);
   const json& ss = rs.frames[0].metrics["snap"];
-  CHECK(ss["mode"] == "spin");
+  CHECK(ss["mode"] == "free");  // "spin" is the former name (still accepted in scene files)
   CHECK(ss["smooth_rho"] == 10);
   const double q_edit = rs.frames[0].metrics["q_mean"].get<double>();
   CHECK(ss["q_mean"].get<double>() < q_edit);
 
   doc["snap"] = {{"mode", "shape"}, {"steps", 2}};
   const Scene shape = parse_scene(doc, kScenes, "shape.json");
-  CHECK(shape.snap.shape);
+  CHECK(shape.snap.mode == SnapMode::Shape);
   const RunResult rh = run_scene(shape);
   const json& sh = rh.frames[0].metrics["snap"];
   CHECK(sh["mode"] == "shape");
@@ -299,6 +299,49 @@ TEST_CASE("scene snap modes: spin with rho smoothing, shape (extrusion), keys of
     doc["snap"] = json::parse(bad);
     CHECK_THROWS_WITH(parse_scene(doc, kScenes, "bad.json"), Catch::Contains("/snap"));
   }
+}
+
+TEST_CASE("scene snap mode pinned: the handles stay where the deformer put them, the rest is cleaned up",
+          "[scene][run][snap][pinned]") {
+  json doc = json::parse(std::ifstream(kScenes / "sh_tube.json"));
+  doc.erase("output");
+  doc["snap"] = {{"pins", "handles"}};  // pins given: the mode is pinned
+  const Scene s = parse_scene(doc, kScenes, "pinned.json");
+  REQUIRE(s.snap.mode == SnapMode::Pinned);
+  REQUIRE(s.snap.pin_handles.size() == s.handles.size());
+  const RunResult r = run_scene(s);
+  const FrameResult& fr = r.frames[0];
+  const json& sp = fr.metrics["snap"];
+  CHECK(sp["mode"] == "pinned");
+  double pin_move = 0;
+  Eigen::Index pins = 0;
+  for (const Handle& h : s.handles)
+    for (Eigen::Index k = 0; k < h.vertices.size(); ++k, ++pins)
+      pin_move = std::max(pin_move, (fr.V.row(h.vertices[k]) - fr.V_unsnapped.row(h.vertices[k])).norm());
+  CHECK(pin_move == 0.0);  // pins are copied, not solved for
+  CHECK(sp["pins"].get<Eigen::Index>() == pins);
+  const double q_edit = fr.metrics["q_mean"].get<double>(), q_clean = sp["q_mean"].get<double>();
+  INFO("edit Q_mean " << q_edit << ", cleaned " << q_clean << ", measure ratio " << sp["measure_ratio"]);
+  CHECK(q_clean < q_edit);
+  CHECK(std::abs(sp["measure_ratio"].get<double>() - 1.0) < 1e-6);  // the kept volume (capped tube)
+  CHECK(sp["keep"] == "volume");
+  // The free region moved: the cleanup did something.
+  CHECK(sp["max_edit_to_snap"].get<double>() > 1e-6);
+
+  doc["snap"] = {{"mode", "pinned"}, {"pins", {s.handles[0].name}}, {"iterations", 5}};
+  const Scene one = parse_scene(doc, kScenes, "one.json");
+  CHECK(one.snap.pin_handles == std::vector<int>{0});
+  CHECK(one.snap.iterations == 5);
+
+  for (const char* bad : {R"({"pins": ["nope"]})", R"({"mode": "pinned", "tradeoff": 1})",
+                          R"({"pins": "handles", "keep": "mass"})", R"({"mode": "free", "pins": "handles"})",
+                          R"({"pins": []})"}) {
+    INFO(bad);
+    doc["snap"] = json::parse(bad);
+    CHECK_THROWS_WITH(parse_scene(doc, kScenes, "bad.json"), Catch::Contains("/snap"));
+  }
+  doc["snap"] = {{"mode", "spin"}};  // the former name of free
+  CHECK(parse_scene(doc, kScenes, "legacy.json").snap.mode == SnapMode::Free);
 }
 
 TEST_CASE("spline scene with named keys in matrix, quaternion and rotate forms", "[scene][run][spline]") {

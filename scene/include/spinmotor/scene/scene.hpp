@@ -26,6 +26,8 @@
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/mesh.hpp"
+#include "spinmotor/spin/conformal_snap.hpp"
+#include "spinmotor/spin/pinned_cleanup.hpp"
 
 namespace spinmotor::scene {
 
@@ -54,7 +56,12 @@ struct IkSpec {
 
 struct SnapSpec {
   bool enabled = false;
-  bool shape = false;          ///< "mode": "shape": extrusion toward the edit's curvature (Le Folgoc 2019)
+  /// "mode": free (§7.2), shape (extrusion toward the edit's curvature, Le Folgoc 2019) or pinned (the
+  /// pose-keeping cleanup); default free, pinned when "pins" is given.
+  SnapMode mode = SnapMode::Free;
+  std::vector<int> pin_handles;  ///< pinned mode: indices of the handles whose vertices are pinned
+  CleanupKeep keep = CleanupKeep::Auto;  ///< pinned mode: the measure kept
+  int iterations = PinnedCleanupOptions{}.max_iterations;  ///< pinned mode: at most this many steps
   double tradeoff = 1.0;       ///< spin mode: similarities (0) … integrable spin transformation (1)
   int smooth_rho = 0;          ///< spin mode: Laplacian smoothing passes of the fitted ρ
   int steps = 4;               ///< shape mode: extrusion steps

@@ -43,11 +43,25 @@
 
 #include <memory>
 
+#include "spinmotor/core/option_names.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 #include "spinmotor/mesh/metrics/distances.hpp"
 #include "spinmotor/spin/spin_transform.hpp"
 
 namespace spinmotor {
+
+/// What "snap" does to an edit (CLI `snap --mode`, the scene's snap block, the viewer):
+///   Free    the nearest spin transformation of the whole edit (§7.2, ConformalSnap below);
+///   Shape   Le Folgoc et al. 2019: extrusion from the rest mesh toward the edit's curvature
+///           (curvature_spin_flow.hpp);
+///   Pinned  the pose-keeping cleanup: pinned vertices stay where the edit put them, the rest is made
+///           as conformal as possible at the rest volume (pinned_cleanup.hpp).
+/// "spin" is the former name of Free, still accepted.
+enum class SnapMode { Free, Shape, Pinned };
+inline constexpr OptionNames<SnapMode, 4> kSnapModeNames{
+    "snap mode",
+    {{{SnapMode::Free, "free"}, {SnapMode::Free, "spin"}, {SnapMode::Shape, "shape"}, {SnapMode::Pinned, "pinned"}}}};
+constexpr const auto& option_names(SnapMode) { return kSnapModeNames; }
 
 /// How the snapped mesh is placed onto the edit.
 enum class SnapAlignment {

@@ -96,6 +96,7 @@
 #include <span>
 #include <vector>
 
+#include "spinmotor/core/option_names.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 
 namespace spinmotor {
@@ -107,6 +108,12 @@ enum class CleanupKeep {
   Area,    ///< total surface area
   None,    ///< no constraint (plain ASAP with pins)
 };
+inline constexpr OptionNames<CleanupKeep, 4> kCleanupKeepNames{"keep",
+                                                               {{{CleanupKeep::Auto, "auto"},
+                                                                 {CleanupKeep::Volume, "volume"},
+                                                                 {CleanupKeep::Area, "area"},
+                                                                 {CleanupKeep::None, "none"}}}};
+constexpr const auto& option_names(CleanupKeep) { return kCleanupKeepNames; }
 
 struct PinnedCleanupOptions {
   CleanupKeep keep = CleanupKeep::Auto;
