@@ -1,6 +1,7 @@
 // `spinmotor demo`: the main job on embedded defaults. Generates its own inputs (procedural meshes),
 // runs a representative case of each of the project's three uses — handle-based posing (then the
-// conformal snap of the pose), IK-driven spline deformation, conformal cleanup of a rigged edit — plus
+// conformal snap and the pose-keeping cleanup of the pose), IK-driven spline deformation, conformal
+// cleanup of a rigged edit (snap and pose-keeping cleanup with the rigid parts pinned) — plus
 // a closed-form twist snapped back (Crane 2011 Fig. 21) and a painted spin transformation, writes
 // meshes + one metrics JSON to out/, and prints one summary table (sizes, bind/pose/snap times, Q).
 #include <chrono>
@@ -20,13 +21,14 @@
 #include "spinmotor/mesh/metrics.hpp"
 #include "spinmotor/mesh/metrics/json.hpp"
 #include "spinmotor/mesh/validate.hpp"
-#include "spinmotor/deform/chain_fit.hpp"
+#include "spinmotor/deform/rig_pins.hpp"
 #include "spinmotor/deform/spline_ik.hpp"
 #include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/deform/spline_deformer.hpp"
 #include "spinmotor/deform/surface_harmonic.hpp"
 #include "spinmotor/ga.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
+#include "spinmotor/spin/pinned_cleanup.hpp"
 #include "spinmotor/spin/spin_transform.hpp"
 #include <Eigen/Geometry>
 #include "summary_table.hpp"
@@ -64,8 +66,8 @@ Eigen::MatrixXd twist_z(const Eigen::MatrixXd& V, double z0, double z1, double d
   return W;
 }
 
-void run_demo(Demo& d) {
-  // 1. The embedded default: a capsule (closed, genus 0, with texture coordinates).
+/// 1. The embedded default: a capsule (closed, genus 0, with texture coordinates).
+Mesh stage_capsule(Demo& d) {
   auto t0 = std::chrono::steady_clock::now();
   const Mesh capsule_mesh = capsule(0.5, 3.0, 96, 48);
   const MeshReport report = validate(capsule_mesh);
@@ -77,8 +79,12 @@ void run_demo(Demo& d) {
                          {"generate_validate_ms", gen_ms}};
   d.progress("generated and validated the capsule");
 
-  // 2. A non-conformal edit (twist 90° along the axis), measured with the quality metrics.
-  t0 = std::chrono::steady_clock::now();
+  return capsule_mesh;
+}
+
+/// 2. A non-conformal edit (twist 90° along the axis), measured with the quality metrics.
+Mesh stage_twist(Demo& d, const Mesh& capsule_mesh) {
+  auto t0 = std::chrono::steady_clock::now();
   Mesh twisted = capsule_mesh;
   twisted.V = twist_z(capsule_mesh.V, 0.0, 3.0, 90.0);
   const DeformationMetrics tm = compute_metrics(capsule_mesh, twisted.V);
@@ -88,8 +94,12 @@ void run_demo(Demo& d) {
   d.report["twist"] = to_json(tm);
   d.progress("twisted the capsule and measured it");
 
-  // 3. Handle-based posing: surface harmonic coordinates with motor handles (CGA paper §IV). The
-  //    bottom cap stays, the top cap turns 60° about x around the top of the cylinder and moves.
+  return twisted;
+}
+
+/// 3. Handle-based posing: surface harmonic coordinates with motor handles (CGA paper §IV). The
+///    bottom cap stays, the top cap turns 60° about x around the top of the cylinder and moves.
+Mesh stage_pose(Demo& d, const Mesh& capsule_mesh, std::vector<Handle>& handles) {
   Handle base{"base", {}}, tip{"tip", {}};
   {
     std::vector<int> b, t;
@@ -100,8 +110,8 @@ void run_demo(Demo& d) {
     base.vertices = Eigen::Map<Eigen::VectorXi>(b.data(), static_cast<Eigen::Index>(b.size()));
     tip.vertices = Eigen::Map<Eigen::VectorXi>(t.data(), static_cast<Eigen::Index>(t.size()));
   }
-  const std::vector<Handle> handles{base, tip};
-  t0 = std::chrono::steady_clock::now();
+  handles = {base, tip};
+  auto t0 = std::chrono::steady_clock::now();
   auto deformer = SurfaceHarmonicDeformer::bind(capsule_mesh, handles);
   const double bind_ms = ms_since(t0);
   Eigen::Isometry3d tip_pose = Eigen::Isometry3d::Identity();
@@ -123,9 +133,14 @@ void run_demo(Demo& d) {
   d.report["surface_harmonic"]["pose_ms"] = pose_ms;
   d.progress("posed the capsule with two motor handles");
 
-  // 3b. The conformal snap (Crane 2011 §7.2) of both edits, from one bind on the rest capsule: the
-  //     twist is not conformal and snaps back towards the untwisted capsule; the pose keeps its bend.
-  t0 = std::chrono::steady_clock::now();
+  return posed;
+}
+
+/// 3b. The conformal snap (Crane 2011 §7.2) of both edits, from one bind on the rest capsule: the
+///     twist is not conformal and snaps back towards the untwisted capsule; the pose gives part of its
+///     bend away.
+void stage_snaps(Demo& d, const Mesh& capsule_mesh, const Mesh& twisted, const Mesh& posed) {
+  auto t0 = std::chrono::steady_clock::now();
   ConformalSnap snapper(capsule_mesh);
   const double snap_bind_ms = ms_since(t0);
   d.row("conformal snap bind (rest capsule)", capsule_mesh, snap_bind_ms, std::nan(""), std::nan(""), "");
@@ -147,8 +162,36 @@ void run_demo(Demo& d) {
   d.report["snap_bind_ms"] = snap_bind_ms;
   d.progress("snapped the twist and the pose");
 
-  // 4. A spin transformation (Crane et al. 2011): paint a bump of curvature change ρ on the side of
-  //    the capsule; the result is conformal by construction (Q stays near 1).
+}
+
+/// 3c. The pose-keeping cleanup (spin/pinned_cleanup.hpp) of the pose: the handles' vertices stay
+///     exactly where the deformer put them, the rest is made as conformal as possible at the rest volume.
+void stage_pose_cleanup(Demo& d, const Mesh& capsule_mesh, const Mesh& posed, std::span<const Handle> handles) {
+  std::vector<int> pins;
+  for (const Handle& h : handles) pins.insert(pins.end(), h.vertices.data(), h.vertices.data() + h.vertices.size());
+  auto t0 = std::chrono::steady_clock::now();
+  PinnedCleanup cleanup = PinnedCleanup::bind(capsule_mesh, pins);
+  const double bind_ms = ms_since(t0);
+  Mesh cleaned = capsule_mesh;
+  t0 = std::chrono::steady_clock::now();
+  const PinnedCleanupResult r = cleanup.cleanup(posed.V, cleaned.V);
+  const double ms = ms_since(t0);
+  const DeformationMetrics m = compute_metrics(capsule_mesh, cleaned.V);
+  write_mesh(d.out_dir / "capsule-pose-cleaned.obj", cleaned);
+  d.row("pinned cleanup bind (handles pinned)", capsule_mesh, bind_ms, std::nan(""), std::nan(""), "");
+  d.row("pinned cleanup of the pose", cleaned, ms, m.q_mean, m.q_max, "capsule-pose-cleaned.obj");
+  d.report["cleanup_pose"] = to_json(m);
+  d.report["cleanup_pose"]["bind_ms"] = bind_ms;
+  d.report["cleanup_pose"]["cleanup_ms"] = ms;
+  d.report["cleanup_pose"]["iterations"] = r.iterations;
+  d.report["cleanup_pose"]["volume_ratio"] = r.measure_ratio();
+  d.report["cleanup_pose"]["pin_error"] = r.pin_error;
+  d.progress("cleaned the pose up with the handles pinned");
+}
+
+/// 4. A spin transformation (Crane et al. 2011): paint a bump of curvature change ρ on the side of
+///    the capsule; the result is conformal by construction (Q stays near 1).
+void stage_spin(Demo& d, const Mesh& capsule_mesh) {
   Eigen::VectorXd rho(capsule_mesh.num_faces());
   const Eigen::RowVector3d bump_centre(0.5, 0.0, 1.5);
   for (Eigen::Index f = 0; f < capsule_mesh.num_faces(); ++f) {
@@ -156,7 +199,7 @@ void run_demo(Demo& d) {
                                   capsule_mesh.V.row(capsule_mesh.F(f, 2))) / 3.0;
     rho[f] = 4.0 * std::exp(-(c - bump_centre).squaredNorm() / (2 * 0.3 * 0.3));
   }
-  t0 = std::chrono::steady_clock::now();
+  auto t0 = std::chrono::steady_clock::now();
   SpinTransform spin(capsule_mesh);
   const SpinTransformResult sr = spin.solve(rho);
   const double spin_ms = ms_since(t0);
@@ -171,8 +214,11 @@ void run_demo(Demo& d) {
   d.report["spin"]["eigen_residual"] = sr.residual;
   d.progress("applied a spin transformation");
 
-  // 5. IK-driven spline deformation (CGA paper §III.C): a tube tentacle's 5-joint FABRIK chain reaches
-  //    a target; the joint motors are fitted by a cubic B-spline that drives the spline deformer.
+}
+
+/// 5. IK-driven spline deformation (CGA paper §III.C): a tube tentacle's 5-joint FABRIK chain reaches
+///    a target; the joint motors are fitted by a cubic B-spline that drives the spline deformer.
+void stage_ik(Demo& d) {
   const Mesh tube_mesh = tube(0.25, 4.0, 161, 32);
   auto ring = [&](double z, const char* name) {
     std::vector<int> v;
@@ -184,7 +230,7 @@ void run_demo(Demo& d) {
   Eigen::MatrixXd chain(5, 3);
   for (int i = 0; i < 5; ++i) chain.row(i) << 0.0, 0.0, i;
   const Eigen::Vector3d target(1.5, 0.5, 3.0);
-  t0 = std::chrono::steady_clock::now();
+  auto t0 = std::chrono::steady_clock::now();
   // The rest target is the tip joint; the pose's one motor carries it to `target` (FABRIK + fit + pose).
   Rig ik_rig{.handles = {ends[0], ends[1]}};
   ik_rig.ik = IkChain{.chain = chain, .target = chain.row(4).transpose(), .tolerance = 1e-6, .iterations = 100};
@@ -208,15 +254,20 @@ void run_demo(Demo& d) {
   d.report["ik_spline"]["tip_error"] = (tip_centre - target).norm();
   d.progress("bent the tube with IK");
 
-  // 6. Conformal cleanup of a rigged edit: a two-bone arm with harmonic bone weights, the forearm bent
-  //    90° and twisted 90°, skinned with LBS (the candy wrapper) and snapped.
+}
+
+/// 6. Conformal cleanup of a rigged edit: a two-bone arm with harmonic bone weights, the forearm bent
+///    90° and twisted 90°, skinned with LBS (the candy wrapper), then snapped (§7.2) and cleaned up
+///    with the bones' rigid parts pinned (pins_from_weights, default margin).
+void stage_rig(Demo& d) {
   const Mesh arm = capsule(0.3, 4.0, 96, 48);
   const double z0 = arm.V.col(2).minCoeff(), z1 = arm.V.col(2).maxCoeff(), elbow = 0.5 * (z0 + z1);
   std::vector<Bone> bones(2);
   bones[0] = {.name = "upper", .parent = -1, .head = {0, 0, z0}, .tail = {0, 0, elbow}};
   bones[1] = {.name = "fore", .parent = 0, .head = {0, 0, elbow}, .tail = {0, 0, z1}};
-  t0 = std::chrono::steady_clock::now();
-  SkinDeformer skin = SkinDeformer::bind(arm, bones, bone_harmonic_weights(arm, bones), {.blend = SkinDeformer::Blend::LBS});
+  auto t0 = std::chrono::steady_clock::now();
+  const Eigen::MatrixXd W = bone_harmonic_weights(arm, bones);
+  SkinDeformer skin = SkinDeformer::bind(arm, bones, W, {.blend = SkinDeformer::Blend::LBS});
   const double skin_bind_ms = ms_since(t0);
   auto about = [](const Eigen::Vector3d& axis, double degrees, const Eigen::Vector3d& pivot) {
     return ga::from_isometry(Eigen::Isometry3d(Eigen::Translation3d(pivot) *
@@ -242,9 +293,47 @@ void run_demo(Demo& d) {
   d.row("skin bind (2 bones, harmonic weights)", arm, skin_bind_ms, std::nan(""), std::nan(""), "");
   d.row("skin pose (LBS, bend + twist 90 deg)", skinned, skin_pose_ms, km.q_mean, km.q_max, "arm-lbs.obj");
   d.row("conformal snap of the skinned arm", arm_snapped, arm_snap_ms, ksm.q_mean, ksm.q_max, "arm-lbs-snapped.obj");
-  d.report["rig_cleanup"] = {{"lbs", to_json(km)}, {"snapped", to_json(ksm)}, {"bind_ms", skin_bind_ms},
-                             {"pose_ms", skin_pose_ms}, {"snap_ms", arm_snap_ms}};
-  d.progress("skinned the arm and snapped it");
+  // The pose-keeping cleanup: vertices of one bone (weight ≥ 0.999) farther than a quarter of the
+  // elbow's blend width from any blended vertex are pinned.
+  t0 = std::chrono::steady_clock::now();
+  const Eigen::VectorXi pins = pins_from_weights(arm.V, W, 0.999, default_pin_margin(arm.V, W, bones));
+  PinnedCleanup cleanup = PinnedCleanup::bind(arm, pins);
+  const double clean_bind_ms = ms_since(t0);
+  Mesh arm_cleaned = arm;
+  t0 = std::chrono::steady_clock::now();
+  const PinnedCleanupResult kc = cleanup.cleanup(skinned.V, arm_cleaned.V);
+  const double arm_clean_ms = ms_since(t0);
+  const DeformationMetrics kcm = compute_metrics(arm, arm_cleaned.V);
+  write_mesh(d.out_dir / "arm-lbs-cleaned.obj", arm_cleaned);
+  d.row("pinned cleanup bind (" + std::to_string(pins.size()) + " pins from the weights)", arm, clean_bind_ms,
+        std::nan(""), std::nan(""), "");
+  d.row("pinned cleanup of the skinned arm", arm_cleaned, arm_clean_ms, kcm.q_mean, kcm.q_max, "arm-lbs-cleaned.obj");
+  d.report["rig_cleanup"] = {{"lbs", to_json(km)},
+                             {"snapped", to_json(ksm)},
+                             {"cleaned", to_json(kcm)},
+                             {"bind_ms", skin_bind_ms},
+                             {"pose_ms", skin_pose_ms},
+                             {"snap_ms", arm_snap_ms},
+                             {"cleanup_bind_ms", clean_bind_ms},
+                             {"cleanup_ms", arm_clean_ms},
+                             {"pins", pins.size()},
+                             {"cleanup_iterations", kc.iterations},
+                             {"volume_ratio_lbs", kc.rest_measure != 0 ? kc.edit_measure / kc.rest_measure : 1.0},
+                             {"volume_ratio_cleaned", kc.measure_ratio()},
+                             {"pin_error", kc.pin_error}};
+  d.progress("skinned the arm, snapped it and cleaned it up with the rigid parts pinned");
+}
+
+void run_demo(Demo& d) {
+  const Mesh capsule_mesh = stage_capsule(d);
+  const Mesh twisted = stage_twist(d, capsule_mesh);
+  std::vector<Handle> handles;
+  const Mesh posed = stage_pose(d, capsule_mesh, handles);
+  stage_snaps(d, capsule_mesh, twisted, posed);
+  stage_pose_cleanup(d, capsule_mesh, posed, handles);
+  stage_spin(d, capsule_mesh);
+  stage_ik(d);
+  stage_rig(d);
 }
 
 const RegisterCommand reg{
