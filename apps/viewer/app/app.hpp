@@ -25,6 +25,7 @@ struct Args {
   bool snap = false, flat = false, wireframe = false;
   int frames = 0;
   double tradeoff = 1.0;
+  bool keep_pose = false;  ///< --snap --keep-pose: the pose-keeping cleanup with the handles pinned
   int smoke_frames = 0;   ///< window mode: run this many frames, then exit (smoke test under Xvfb)
   std::string smoke_png;  ///< ... and save the last window frame (mesh + UI) here
 };

@@ -116,11 +116,18 @@ int run_headless(const Args& a) {
   Eigen::VectorXd rho = Eigen::VectorXd::Zero(s.rest().F.rows());
   if (a.snap) {
     SnapWorker worker(s.rest());
-    worker.request(V, a.tradeoff);
+    if (a.keep_pose)
+      worker.request_pinned(V, s.handle_vertices());
+    else
+      worker.request(V, a.tradeoff);
     worker.wait_idle(600);
     auto r = worker.take();
     if (!r || !r->error.empty()) throw Error("snap failed: " + (r ? r->error : std::string("no result")));
-    std::printf("snap: Q_mean %.4f -> %.4f (bind %.0f ms, snap %.0f ms)\n", q_edit, r->q_mean, r->bind_ms, r->snap_ms);
+    if (r->pinned)
+      std::printf("cleanup (handles pinned): Q_mean %.4f -> %.4f, volume %.4f of rest (bind %.0f ms, cleanup %.0f ms)\n",
+                  q_edit, r->q_mean, r->volume_ratio, r->bind_ms, r->snap_ms);
+    else
+      std::printf("snap: Q_mean %.4f -> %.4f (bind %.0f ms, snap %.0f ms)\n", q_edit, r->q_mean, r->bind_ms, r->snap_ms);
     V = r->V;
   } else if (!a.paints.empty()) {
     const PaintOutcome r = paint(a, s, cam, o.width, o.height, rho);

@@ -54,6 +54,8 @@ int main(int argc, char** argv) {
                  "repeatable; then show the spin transformation")
       ->take_all();
   app.add_flag("--snap", a.snap, "Headless: show the conformal snap of the posed mesh");
+  app.add_flag("--keep-pose", a.keep_pose,
+               "With --snap: the pose-keeping cleanup instead (every handle pinned where the deformer put it)");
   app.add_option("--tradeoff", a.tradeoff, "Snap tradeoff in [0, 1]")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();

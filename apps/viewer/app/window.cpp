@@ -60,6 +60,7 @@ struct Viewer {
 
   // Snap to spin.
   double tradeoff = 1.0;
+  bool keep_pose = true;  ///< snap = the pose-keeping cleanup with the handles pinned
   bool auto_snap = true;
   std::optional<SnapOutcome> snapped;
 
@@ -141,7 +142,16 @@ struct Viewer {
   }
 
   void request_snap() {
-    if (snapper && auto_snap && session.has_deformer()) snapper->request(session.posed(), tradeoff);
+    if (snapper && auto_snap && session.has_deformer()) snap_now();
+  }
+  /// The §7.2 snap, or with "keep the pose" the pose-keeping cleanup with every handle pinned.
+  void snap_now() {
+    if (!snapper) return;
+    std::vector<int> pins = keep_pose ? session.handle_vertices() : std::vector<int>{};
+    if (pins.empty())
+      snapper->request(session.posed(), tradeoff);
+    else
+      snapper->request_pinned(session.posed(), std::move(pins));
   }
 
   void request_paint() {
@@ -531,15 +541,19 @@ void pose_panel(Viewer& v) {
 void snap_panel(Viewer& v) {
   if (!ImGui::CollapsingHeader("Snap to spin", ImGuiTreeNodeFlags_DefaultOpen)) return;
   ImGui::Checkbox("snap when a drag ends", &v.auto_snap);
-  float t = float(v.tradeoff);
-  if (ImGui::SliderFloat("tradeoff", &t, 0, 1)) v.tradeoff = t;
-  if (ImGui::IsItemDeactivatedAfterEdit()) v.request_snap();
-  if (ImGui::Button("snap now") && v.snapper) v.snapper->request(v.session.posed(), v.tradeoff);
+  if (ImGui::Checkbox("keep the pose (handles pinned)", &v.keep_pose)) v.request_snap();
+  if (!v.keep_pose) {
+    float t = float(v.tradeoff);
+    if (ImGui::SliderFloat("tradeoff", &t, 0, 1)) v.tradeoff = t;
+    if (ImGui::IsItemDeactivatedAfterEdit()) v.request_snap();
+  }
+  if (ImGui::Button("snap now")) v.snap_now();
   ImGui::Text("Q_mean edit %.4f", v.q_edit);
   if (v.snapper && v.snapper->busy())
     ImGui::Text("snapping...");
   else if (v.snapped && v.snapped->error.empty())
-    ImGui::Text("Q_mean snap %.4f (%.0f ms)", v.snapped->q_mean, v.snapped->snap_ms);
+    ImGui::Text(v.snapped->pinned ? "Q_mean cleaned %.4f (%.0f ms, volume %.3f of rest)" : "Q_mean snap %.4f (%.0f ms)",
+                v.snapped->q_mean, v.snapped->snap_ms, v.snapped->volume_ratio);
   else if (v.snapped)
     ImGui::TextWrapped("snap failed: %s", v.snapped->error.c_str());
 }

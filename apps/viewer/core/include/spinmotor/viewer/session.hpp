@@ -6,6 +6,7 @@
 //   s.set_motor("tip", m);  s.commit_pose();    // an edit (one undo step per commit)
 //   const Eigen::MatrixXd& V = s.posed();       // the deformer's pose() for the current pose
 //   s.save_scene("edited.json");                // same JSON, the pose replaced by the current one
+#include <algorithm>
 #include <Eigen/Core>
 #include <filesystem>
 #include <memory>
@@ -36,6 +37,13 @@ class Session {
   ~Session();
 
   const scene::Scene& scene() const { return *scene_; }
+  /// Every handle's vertices (sorted): the pins of the pose-keeping cleanup ("keep the pose").
+  std::vector<int> handle_vertices() const {
+    std::vector<int> v;
+    for (const Handle& h : scene_->handles) v.insert(v.end(), h.vertices.data(), h.vertices.data() + h.vertices.size());
+    std::sort(v.begin(), v.end());
+    return v;
+  }
   const Mesh& rest() const { return scene_->mesh; }
   bool has_deformer() const { return deformer_ != nullptr; }
   double bind_ms() const { return bind_ms_; }
