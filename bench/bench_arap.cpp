@@ -24,19 +24,19 @@
 #include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
 #include <chrono>
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <map>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "spinmotor/core/stopwatch.hpp"
 #include "spinmotor/deform/arap.hpp"
 #include "spinmotor/deform/arap_rotation.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
-#include "spinmotor/core/stopwatch.hpp"
 
 using namespace spinmotor;
 
@@ -72,7 +72,8 @@ Problem translate_top(std::string name, Mesh mesh) {
   Problem p{std::move(name), std::move(mesh), {}, {}};
   const double h = p.mesh.V.col(2).maxCoeff() - p.mesh.V.col(2).minCoeff();
   p.handles = {z_slab(p.mesh, 0.0, 0.05, "bottom"), z_slab(p.mesh, 0.95, 1.0, "top")};
-  p.motors = {ga::Mot(1, 0, 0, 0, 0, 0, 0, 0), ga::motor(ga::Rot(1, 0, 0, 0), ga::translator({0.3 * h, 0, 0}))};
+  p.motors = {ga::Mot(1, 0, 0, 0, 0, 0, 0, 0),
+              ga::motor(ga::Rot(1, 0, 0, 0), ga::translator({0.3 * h, 0, 0}))};
   return p;
 }
 
@@ -94,7 +95,7 @@ const Problem& problem(const std::string& which) {
 /// step a JacobiSVD per cell (parallel), the right-hand side scattered edge by edge, the global matrix
 /// Σ c (δu − δv)(δu − δv)ᵀ assembled from triplets and factorized by Eigen's SimplicialLDLT.
 class BaselineArap {
-public:
+ public:
   struct Term {
     int u, v;
     double c;
@@ -135,7 +136,8 @@ public:
               fc.emplace_back(r, -1 - s, e.c * sgn[a] * sgn[b]);
           }
       }
-    const auto nf = static_cast<Eigen::Index>(free_.size()), nc = static_cast<Eigen::Index>(constrained_.size());
+    const auto nf = static_cast<Eigen::Index>(free_.size()),
+               nc = static_cast<Eigen::Index>(constrained_.size());
     K_FF_.resize(nf, nf);
     K_FF_.setFromTriplets(ff.begin(), ff.end());
     K_FC_.resize(nf, nc);
@@ -177,14 +179,15 @@ public:
         if (free_of_[e.v] >= 0) b.row(free_of_[e.v]) -= r;
       }
     Eigen::MatrixXd XC(static_cast<Eigen::Index>(constrained_.size()), 3);
-    for (std::size_t r = 0; r < constrained_.size(); ++r) XC.row(static_cast<Eigen::Index>(r)) = X.row(constrained_[r]);
+    for (std::size_t r = 0; r < constrained_.size(); ++r)
+      XC.row(static_cast<Eigen::Index>(r)) = X.row(constrained_[r]);
     const Eigen::MatrixXd XF = ldlt_.solve(b - K_FC_ * XC);
     for (std::size_t r = 0; r < free_.size(); ++r) X.row(free_[r]) = XF.row(static_cast<Eigen::Index>(r));
   }
 
   const std::vector<Eigen::Matrix3d>& rotations() const { return R_; }
 
-private:
+ private:
   Eigen::MatrixXd P_;
   std::vector<std::vector<Term>> cells_;
   std::vector<int> free_of_, free_, constrained_;
@@ -221,7 +224,8 @@ const RotationData& rotation_data() {
     }
     base.local(X);  // rotations of iteration 3: the warm starts of iteration 4
     RotationData r;
-    for (const Eigen::Matrix3d& R : base.rotations()) r.warm.push_back(ga::from_quaterniond(Eigen::Quaterniond(R)));
+    for (const Eigen::Matrix3d& R : base.rotations())
+      r.warm.push_back(ga::from_quaterniond(Eigen::Quaterniond(R)));
     base.global(X);
     for (int i = 0; i < X.rows(); ++i) r.S.push_back(base.covariance(i, X));
     return r;
@@ -339,19 +343,22 @@ void BM_Arap(benchmark::State& state, const std::string& which, int K, bool with
     state.counters["ours_iter_ms"] = pose_ms / K;
     state.counters["ours_local_ms"] = r.local_ms / (K + 1);
     state.counters["ours_global_ms"] = r.global_ms / K;
-    state.counters["ours_jacobi_frac"] = static_cast<double>(r.jacobi_rotations) / ((K + 1.0) * p.mesh.V.rows());
+    state.counters["ours_jacobi_frac"] =
+        static_cast<double>(r.jacobi_rotations) / ((K + 1.0) * p.mesh.V.rows());
     state.counters["ours_rhs_ms"] = r.rhs_ms / K;
     state.counters["ours_solve_ms"] = r.solve_ms / K;
     const ArapBindReport& b = d.bind_report();
     state.counters["ours_factor_ms"] = b.factor_ms;
     state.counters["E_K"] = r.energy.back();
     std::printf(
-        "[bench_arap] %s n=%lld: ours bind %.1f ms (weights %.1f, cells %.1f, factor %.1f), %.2f ms/iter (local %.2f, "
+        "[bench_arap] %s n=%lld: ours bind %.1f ms (weights %.1f, cells %.1f, factor %.1f), %.2f ms/iter "
+        "(local %.2f, "
         "rhs %.2f, solve %.2f), E_0 %.6g E_%d %.6g\n",
-        which.c_str(), static_cast<long long>(p.mesh.V.rows()), bind_ms, b.weights_ms, b.cells_ms, b.factor_ms,
-        pose_ms / K, r.local_ms / (K + 1), r.rhs_ms / K, r.solve_ms / K, r.energy.front(), K, r.energy.back());
-    std::printf("[bench_arap] %s: ours CPU time (all threads) bind %.1f ms, %.2f ms/iter\n", which.c_str(), bind_cpu,
-                pose_cpu / K);
+        which.c_str(), static_cast<long long>(p.mesh.V.rows()), bind_ms, b.weights_ms, b.cells_ms,
+        b.factor_ms, pose_ms / K, r.local_ms / (K + 1), r.rhs_ms / K, r.solve_ms / K, r.energy.front(), K,
+        r.energy.back());
+    std::printf("[bench_arap] %s: ours CPU time (all threads) bind %.1f ms, %.2f ms/iter\n", which.c_str(),
+                bind_cpu, pose_cpu / K);
     if (with_baseline) {
       t = Clock::now();
       c = cpu_ms();
@@ -382,12 +389,16 @@ void BM_Arap(benchmark::State& state, const std::string& which, int K, bool with
       state.counters["bind_ratio"] = base_bind / bind_ms;
       state.counters["iter_ratio"] = (base_pose / K) / (pose_ms / K);
       state.counters["E_rel_diff"] = std::abs(E - r.energy.back()) / E;
-      std::printf("[bench_arap] %s: baseline bind %.1f ms, %.2f ms/iter (local %.2f + global %.2f), E_%d %.6g; "
-                  "ratios bind %.2fx, iter %.2fx\n",
-                  which.c_str(), base_bind, base_pose / K, local_ms / (K + 1), global_ms / K, K, E,
-                  base_bind / bind_ms, base_pose / pose_ms);
-      std::printf("[bench_arap] %s: baseline CPU time bind %.1f ms, %.2f ms/iter; CPU ratios bind %.2fx, iter %.2fx\n",
-                  which.c_str(), base_bind_cpu, base_pose_cpu / K, base_bind_cpu / bind_cpu, base_pose_cpu / pose_cpu);
+      std::printf(
+          "[bench_arap] %s: baseline bind %.1f ms, %.2f ms/iter (local %.2f + global %.2f), E_%d %.6g; "
+          "ratios bind %.2fx, iter %.2fx\n",
+          which.c_str(), base_bind, base_pose / K, local_ms / (K + 1), global_ms / K, K, E,
+          base_bind / bind_ms, base_pose / pose_ms);
+      std::printf(
+          "[bench_arap] %s: baseline CPU time bind %.1f ms, %.2f ms/iter; CPU ratios bind %.2fx, iter "
+          "%.2fx\n",
+          which.c_str(), base_bind_cpu, base_pose_cpu / K, base_bind_cpu / bind_cpu,
+          base_pose_cpu / pose_cpu);
     }
   }
 }
@@ -396,8 +407,9 @@ void BM_ArapInitial(benchmark::State& state, ArapInitial initial) {
   static const Mesh m = tube(1.0, 10.0, 60, 40, false);
   const std::vector<Handle> hs = {z_slab(m, 0.0, 0.05, "bottom"), z_slab(m, 0.95, 1.0, "top")};
   const double Rb = 10.0 / (M_PI / 2);
-  const std::vector<ga::Mot> motors = {ga::Mot(1, 0, 0, 0, 0, 0, 0, 0),
-                                       ga::motor(ga::rotor({0, 1, 0}, M_PI / 2), ga::translator({Rb - 10.0, 0, Rb}))};
+  const std::vector<ga::Mot> motors = {
+      ga::Mot(1, 0, 0, 0, 0, 0, 0, 0),
+      ga::motor(ga::rotor({0, 1, 0}, M_PI / 2), ga::translator({Rb - 10.0, 0, Rb}))};
   ArapDeformer::Options o;
   o.initial = initial;
   o.iterations = 2000;
@@ -416,10 +428,18 @@ BENCHMARK(BM_Rotation_horn_warm)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Rotation_horn_cold)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Rotation_jacobi)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Rotation_eigen_selfadjoint)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Arap, nefertiti, std::string("nefertiti"), 10, true)->Iterations(1)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Arap, tube80k, std::string("tube80k"), 10, true)->Iterations(1)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Arap, tube1M, std::string("tube1M"), 3, false)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Arap, nefertiti, std::string("nefertiti"), 10, true)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Arap, tube80k, std::string("tube80k"), 10, true)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Arap, tube1M, std::string("tube1M"), 3, false)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_ArapInitial, rest, ArapInitial::Rest)->Iterations(1)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_ArapInitial, harmonic, ArapInitial::Harmonic)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ArapInitial, harmonic, ArapInitial::Harmonic)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -46,7 +46,8 @@ const Mesh& cached_tube(int size) {
 
 /// k handle sets: both end rings, then side patches (an eighth of a ring) spread along the tube.
 std::vector<Handle> handle_sets(const Mesh& m, int k) {
-  const int sides = static_cast<int>(std::lround(2.0 * M_PI / std::atan2(m.V(1, 1), m.V(1, 0))));  // vertex 1 at 2π/sides
+  const int sides =
+      static_cast<int>(std::lround(2.0 * M_PI / std::atan2(m.V(1, 1), m.V(1, 0))));  // vertex 1 at 2π/sides
   const int rings = static_cast<int>(m.V.rows() / sides);
   auto ring = [&](int r, int j0, int j1) {
     Handle h{"h" + std::to_string(r), Eigen::VectorXi(j1 - j0)};
@@ -54,11 +55,13 @@ std::vector<Handle> handle_sets(const Mesh& m, int k) {
     return h;
   };
   std::vector<Handle> h = {ring(0, 0, sides), ring(rings - 1, 0, sides)};
-  for (int p = 0; static_cast<int>(h.size()) < k; ++p) h.push_back(ring((p + 1) * rings / (k - 1), 0, sides / 8));
+  for (int p = 0; static_cast<int>(h.size()) < k; ++p)
+    h.push_back(ring((p + 1) * rings / (k - 1), 0, sides / 8));
   return h;
 }
 
-ga::Mot screw(const Eigen::Vector3d& axis, double degrees, const Eigen::Vector3d& about, const Eigen::Vector3d& t) {
+ga::Mot screw(const Eigen::Vector3d& axis, double degrees, const Eigen::Vector3d& about,
+              const Eigen::Vector3d& t) {
   const ga::Rot r = ga::rotor(axis, degrees * M_PI / 180.0);
   return ga::motor(r, ga::translator(about + t - ga::rotate(r, about)));
 }
@@ -101,8 +104,8 @@ struct PoseSetup {
 };
 
 /// A user's linear blend skinning: per vertex, M = Σ w_j T_j (4×4), p' = M (p, 1).
-void matrix4d_blend(const Eigen::MatrixXd& V, const MotorBlendField::Weights& W, const std::vector<Eigen::Matrix4d>& T,
-                    Eigen::MatrixXd& out) {
+void matrix4d_blend(const Eigen::MatrixXd& V, const MotorBlendField::Weights& W,
+                    const std::vector<Eigen::Matrix4d>& T, Eigen::MatrixXd& out) {
   const Eigen::Index n = V.rows(), k = W.cols();
 #pragma omp parallel for schedule(static)
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -123,7 +126,8 @@ PoseSetup& pose_setup() {
   static PoseSetup s = [] {
     PoseSetup p;
     p.mesh = &cached_tube(1000);
-    auto d = SurfaceHarmonicDeformer::bind(*p.mesh, handle_sets(*p.mesh, 4), {.weights = HarmonicWeights::Cotangent});
+    auto d = SurfaceHarmonicDeformer::bind(*p.mesh, handle_sets(*p.mesh, 4),
+                                           {.weights = HarmonicWeights::Cotangent});
     p.W = d.coordinates();
     const auto T = matrices(p.motors);
     Eigen::MatrixXd out(p.mesh->V.rows(), 3);
@@ -186,7 +190,8 @@ void BM_pose_spline(benchmark::State& state) {
   static std::unique_ptr<SplineDeformer> d;
   if (!d)
     d = std::make_unique<SplineDeformer>(SplineDeformer::bind(
-        m, h, {.basis = SplineBasis::BSpline, .degree = 3, .keys = 6, .weights = HarmonicWeights::Cotangent}));
+        m, h,
+        {.basis = SplineBasis::BSpline, .degree = 3, .keys = 6, .weights = HarmonicWeights::Cotangent}));
   std::vector<ga::Mot> keys;
   for (int j = 0; j < 6; ++j) keys.push_back(screw({1, 0, 0}, 15.0 * j, {0, 0, 2.0 * j}, {0, 0, 0}));
   Eigen::MatrixXd out;

@@ -25,6 +25,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "spinmotor/core/stopwatch.hpp"
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/metrics/area_distortion.hpp"
@@ -35,7 +36,6 @@
 #include "spinmotor/spin/edge_constraint_net.hpp"
 #include "spinmotor/spin/face_dirac_operator.hpp"
 #include "spinmotor/spin/willmore_flow.hpp"
-#include "spinmotor/core/stopwatch.hpp"
 
 using namespace spinmotor;
 
@@ -50,7 +50,6 @@ const Mesh& mesh(const std::string& name) {
   if (nef.V.rows() == 0) nef = read_mesh(kMeshes + "/nefertiti.obj");
   return nef;
 }
-
 
 bool full() { return std::getenv("SPINMOTOR_BENCH_FULL") != nullptr; }
 

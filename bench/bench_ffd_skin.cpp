@@ -84,8 +84,10 @@ void BM_ffd_pose(benchmark::State& state) {
   state.counters["controls"] = static_cast<double>(d.controls().size());
   state.counters["position_ms"] = base_ms;
   state.counters["vs_position"] = total / state.iterations() / base_ms;
-  state.SetLabel(std::string(bspline ? "8x8x8 bspline " : "4x4x4 bezier ") +
-                 (state.range(1) == 0 ? "position" : state.range(1) == 1 ? "motor-log" : "motor-dlb"));
+  state.SetLabel(std::string(bspline ? "8x8x8 bspline " : "4x4x4 bezier ") + (state.range(1) == 0 ? "position"
+                                                                              : state.range(1) == 1
+                                                                                  ? "motor-log"
+                                                                                  : "motor-dlb"));
 }
 BENCHMARK(BM_ffd_pose)
     ->ArgsProduct({{0, 1}, {0, 1, 2}})
@@ -128,8 +130,8 @@ const SkinSetup& skin_setup() {
 void BM_skin_pose(benchmark::State& state) {
   const Mesh& m = tube_1m();
   const SkinSetup& s = skin_setup();
-  const SkinDeformer::Blend blends[] = {SkinDeformer::Blend::LBS, SkinDeformer::Blend::Linear, SkinDeformer::Blend::Log,
-                                        SkinDeformer::Blend::PivotLog};
+  const SkinDeformer::Blend blends[] = {SkinDeformer::Blend::LBS, SkinDeformer::Blend::Linear,
+                                        SkinDeformer::Blend::Log, SkinDeformer::Blend::PivotLog};
   SkinDeformer d = SkinDeformer::bind(m, s.bones, s.W, {blends[state.range(0)]});
   SkinDeformer lbs = SkinDeformer::bind(m, s.bones, s.W, {SkinDeformer::Blend::LBS});
   Eigen::MatrixXd V, Vb;
@@ -157,7 +159,7 @@ struct CageSetup {
 const CageSetup& cage_setup() {
   static const CageSetup s = [] {
     CageSetup s;
-    s.cage = uv_sphere(8, 12, 2.2);  // 98 vertices, 192 faces
+    s.cage = uv_sphere(8, 12, 2.2);      // 98 vertices, 192 faces
     s.inner = torus(1.0, 0.4, 128, 80);  // 10,240 vertices
     s.inner100k = torus(1.0, 0.4, 400, 250);
     return s;
@@ -169,7 +171,8 @@ const CageSetup& cage_setup() {
 void BM_cage_bind(benchmark::State& state) {
   const CageSetup& s = cage_setup();
   const int grid = static_cast<int>(state.range(0));
-  const double mvc_ms = median_ms([&] { benchmark::DoNotOptimize(mean_value_coordinates(s.cage.V, s.cage.F, s.inner.V).data()); }, 3);
+  const double mvc_ms = median_ms(
+      [&] { benchmark::DoNotOptimize(mean_value_coordinates(s.cage.V, s.cage.F, s.inner.V).data()); }, 3);
   double total = 0, err = 0;
   for (auto _ : state) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -186,12 +189,13 @@ void BM_cage_bind(benchmark::State& state) {
 }
 BENCHMARK(BM_cage_bind)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond)->Iterations(2);
 // grid 128 only on request (SPINMOTOR_BENCH_CAGE128=1): ~2M grid nodes, a long 3D factorization.
-const bool kCage128 = std::getenv("SPINMOTOR_BENCH_CAGE128") &&
-                      (benchmark::RegisterBenchmark("BM_cage_bind/128", [](benchmark::State& st) { BM_cage_bind(st); })
-                           ->Arg(128)
-                           ->Unit(benchmark::kMillisecond)
-                           ->Iterations(1),
-                       true);
+const bool kCage128 =
+    std::getenv("SPINMOTOR_BENCH_CAGE128") &&
+    (benchmark::RegisterBenchmark("BM_cage_bind/128", [](benchmark::State& st) { BM_cage_bind(st); })
+         ->Arg(128)
+         ->Unit(benchmark::kMillisecond)
+         ->Iterations(1),
+     true);
 
 /// arg: 10 or 100 (thousand points)
 void BM_mvc_bind(benchmark::State& state) {

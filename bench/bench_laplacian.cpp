@@ -8,7 +8,8 @@
 //   mass_assembly/<size>      mass_matrix(Voronoi) alone, no baseline (for the record).
 //   cholesky_solve/<size>     (L + M)·X = M·V, 3 right-hand sides: CholeskySolver (CHOLMOD supernodal,
 //                             default ordering) analyze + factorize + solve vs Eigen::SimplicialLDLT
-//                             compute + solve (1M: baseline with SPINMOTOR_BENCH_FULL=1). Counters: *_analyze_ms, *_factor_ms, *_solve_ms,
+//                             compute + solve (1M: baseline with SPINMOTOR_BENCH_FULL=1). Counters:
+//                             *_analyze_ms, *_factor_ms, *_solve_ms,
 //                             *_total_ms, speedup = base_total/ours_total, rel_diff of the solutions.
 //   cholesky_ordering/<ord>/<kind>/<size>   the ordering study (docs/design.md: choose the ordering
 //                             deliberately): AMD, METIS, NESDIS × supernodal/simplicial on 100k (and
@@ -36,13 +37,13 @@
 #include <string>
 #include <vector>
 
+#include "spinmotor/core/stopwatch.hpp"
 #include "spinmotor/linalg/cholesky_solver.hpp"
+#include "spinmotor/linalg/lu_solver.hpp"
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/mesh/generators.hpp"
-#include "spinmotor/linalg/lu_solver.hpp"
 #include "spinmotor/mesh/mass_matrix.hpp"
 #include "spinmotor/mesh/mean_value_laplacian.hpp"
-#include "spinmotor/core/stopwatch.hpp"
 
 using namespace spinmotor;
 using SpMat = Eigen::SparseMatrix<double>;
@@ -135,7 +136,7 @@ void cotan_assembly(benchmark::State& state, const std::string& key, Size size) 
   state.counters["speedup"] = base / ours;
   state.counters["max_abs_diff"] = SpMat(L - Lb).coeffs().cwiseAbs().maxCoeff();
   summary()[key] = {static_cast<double>(m.V.rows()), ours, base,
-                              "1 thread " + std::to_string(one).substr(0, 6) + " ms"};
+                    "1 thread " + std::to_string(one).substr(0, 6) + " ms"};
 }
 
 void mass_assembly(benchmark::State& state, const std::string& key, Size size) {
@@ -215,10 +216,11 @@ void cholesky_solve(benchmark::State& state, const std::string& key, Size size, 
   state.counters["factor_speedup"] = bfa / fa;
   state.counters["rel_diff"] = (X - Xb).norm() / Xb.norm();
   summary()[key] = {static_cast<double>(m.V.rows()), ours, base,
-                              "factor " + std::to_string(bfa / fa).substr(0, 4) + "x"};
+                    "factor " + std::to_string(bfa / fa).substr(0, 4) + "x"};
 }
 
-void cholesky_ordering(benchmark::State& state, const std::string& key, Size size, CholeskySolver::Ordering ordering, bool supernodal) {
+void cholesky_ordering(benchmark::State& state, const std::string& key, Size size,
+                       CholeskySolver::Ordering ordering, bool supernodal) {
   const Mesh& m = sphere(size);
   const Problem p = spd_problem(m);
   double an = 0, fa = 0, so = 0;
@@ -244,9 +246,9 @@ void cholesky_ordering(benchmark::State& state, const std::string& key, Size siz
   state.counters["nnzL"] = c.factor_nonzeros();
   state.counters["gflop"] = c.factor_flops() * 1e-9;
   summary()[key] = {static_cast<double>(m.V.rows()), (an + fa + so) / it, 0,
-                              "analyze " + std::to_string(an / it).substr(0, 6) + " ms, factor " +
-                                  std::to_string(fa / it).substr(0, 6) + " ms, nnz(L) " +
-                                  std::to_string(static_cast<long>(c.factor_nonzeros()))};
+                    "analyze " + std::to_string(an / it).substr(0, 6) + " ms, factor " +
+                        std::to_string(fa / it).substr(0, 6) + " ms, nnz(L) " +
+                        std::to_string(static_cast<long>(c.factor_nonzeros()))};
 }
 
 Problem lu_problem(const Mesh& m) {
@@ -306,25 +308,34 @@ void lu_ordering(benchmark::State& state, const std::string& key, Size size, LUS
   state.counters["factor_ms"] = fa / it;
   state.counters["nnzLU"] = lu.factor_nonzeros();
   summary()[key] = {static_cast<double>(m.V.rows()), (an + fa) / it, 0,
-                              "nnz(L+U) " + std::to_string(static_cast<long>(lu.factor_nonzeros()))};
+                    "nnz(L+U) " + std::to_string(static_cast<long>(lu.factor_nonzeros()))};
 }
 
 const char* name(CholeskySolver::Ordering o) {
   switch (o) {
-    case CholeskySolver::Ordering::Auto: return "auto";
-    case CholeskySolver::Ordering::Natural: return "natural";
-    case CholeskySolver::Ordering::AMD: return "amd";
-    case CholeskySolver::Ordering::METIS: return "metis";
-    case CholeskySolver::Ordering::NESDIS: return "nesdis";
+    case CholeskySolver::Ordering::Auto:
+      return "auto";
+    case CholeskySolver::Ordering::Natural:
+      return "natural";
+    case CholeskySolver::Ordering::AMD:
+      return "amd";
+    case CholeskySolver::Ordering::METIS:
+      return "metis";
+    case CholeskySolver::Ordering::NESDIS:
+      return "nesdis";
   }
   return "?";
 }
 const char* name(LUSolver::Ordering o) {
   switch (o) {
-    case LUSolver::Ordering::Natural: return "natural";
-    case LUSolver::Ordering::COLAMD: return "colamd";
-    case LUSolver::Ordering::MMD_AtA: return "mmd_ata";
-    case LUSolver::Ordering::MMD_AtPlusA: return "mmd_at_plus_a";
+    case LUSolver::Ordering::Natural:
+      return "natural";
+    case LUSolver::Ordering::COLAMD:
+      return "colamd";
+    case LUSolver::Ordering::MMD_AtA:
+      return "mmd_ata";
+    case LUSolver::Ordering::MMD_AtPlusA:
+      return "mmd_at_plus_a";
   }
   return "?";
 }
@@ -332,7 +343,9 @@ const char* name(LUSolver::Ordering o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const auto env_on = [](const char* name) { return std::getenv(name) && std::string(std::getenv(name)) == "1"; };
+  const auto env_on = [](const char* name) {
+    return std::getenv(name) && std::string(std::getenv(name)) == "1";
+  };
   const bool quick = env_on("SPINMOTOR_BENCH_QUICK"), full = env_on("SPINMOTOR_BENCH_FULL");
   const int nsizes = quick ? 1 : 3;
   using O = CholeskySolver::Ordering;
@@ -352,11 +365,13 @@ int main(int argc, char** argv) {
   const Size s100k = kSizes[quick ? 0 : 1];
   for (O o : {O::AMD, O::METIS, O::NESDIS})
     for (bool super : {true, false})
-      reg(std::string("cholesky_ordering/") + name(o) + (super ? "/supernodal/" : "/simplicial/") + s100k.label,
+      reg(std::string("cholesky_ordering/") + name(o) + (super ? "/supernodal/" : "/simplicial/") +
+              s100k.label,
           cholesky_ordering, s100k.solve_iters, s100k, o, super);
   if (!quick && full)
     for (O o : {O::AMD, O::METIS})
-      reg(std::string("cholesky_ordering/") + name(o) + "/supernodal/1M", cholesky_ordering, 1, kSizes[2], o, true);
+      reg(std::string("cholesky_ordering/") + name(o) + "/supernodal/1M", cholesky_ordering, 1, kSizes[2], o,
+          true);
   for (int s = 0; s < std::min(nsizes, 2); ++s)
     reg(std::string("lu_solve/") + kSizes[s].label, lu_solve, kSizes[s].solve_iters, kSizes[s]);
   using LO = LUSolver::Ordering;
@@ -369,11 +384,12 @@ int main(int argc, char** argv) {
   benchmark::Shutdown();
 
   std::printf("\nSummary (ms per operation; speedup = baseline / ours, same input, same run)\n");
-  std::printf("%-42s %10s %12s %12s %8s  %s\n", "benchmark", "n", "ours_ms", "baseline_ms", "speedup", "note");
+  std::printf("%-42s %10s %12s %12s %8s  %s\n", "benchmark", "n", "ours_ms", "baseline_ms", "speedup",
+              "note");
   for (const auto& [k, r] : summary()) {
     if (r.base_ms > 0)
-      std::printf("%-42s %10.0f %12.2f %12.2f %7.2fx  %s\n", k.c_str(), r.n, r.ours_ms, r.base_ms, r.base_ms / r.ours_ms,
-                  r.note.c_str());
+      std::printf("%-42s %10.0f %12.2f %12.2f %7.2fx  %s\n", k.c_str(), r.n, r.ours_ms, r.base_ms,
+                  r.base_ms / r.ours_ms, r.note.c_str());
     else
       std::printf("%-42s %10.0f %12.2f %12s %8s  %s\n", k.c_str(), r.n, r.ours_ms, "-", "-", r.note.c_str());
   }

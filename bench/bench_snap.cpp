@@ -26,7 +26,6 @@
 #include <benchmark/benchmark.h>
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -36,12 +35,12 @@
 #include <string>
 #include <vector>
 
+#include "spinmotor/core/stopwatch.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/metrics/distances.hpp"
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
-#include "spinmotor/core/stopwatch.hpp"
 
 using namespace spinmotor;
 using Eigen::Index;
@@ -66,7 +65,8 @@ MatrixXd bend_longest(const MatrixXd& V, double degrees) {
   ext.maxCoeff(&a);
   int b = (a + 1) % 3;
   if (ext[(a + 2) % 3] > ext[b]) b = (a + 2) % 3;
-  const double L = ext[a], R = L / (degrees * M_PI / 180.0), mid = 0.5 * (lo[a] + hi[a]), cb = 0.5 * (lo[b] + hi[b]);
+  const double L = ext[a], R = L / (degrees * M_PI / 180.0), mid = 0.5 * (lo[a] + hi[a]),
+               cb = 0.5 * (lo[b] + hi[b]);
   MatrixXd out = V;
   for (Index i = 0; i < V.rows(); ++i) {
     const double phi = (V(i, a) - mid) / R, x = V(i, b) - cb;
@@ -80,7 +80,7 @@ const Mesh& get_mesh(const std::string& name) {
   static std::map<std::string, Mesh> cache;
   auto it = cache.find(name);
   if (it != cache.end()) return it->second;
-  Mesh m = name == "spot" ? read_mesh(kMeshes + "/spot.obj")
+  Mesh m = name == "spot"        ? read_mesh(kMeshes + "/spot.obj")
            : name == "nefertiti" ? read_mesh(kMeshes + "/nefertiti.obj")
                                  : capsule(0.5, 2.0, 50, 100);
   return cache.emplace(name, std::move(m)).first->second;
@@ -91,8 +91,8 @@ std::map<std::string, double>& first_total() {
   return t;
 }
 
-void report(benchmark::State& state, const Mesh& m, const MatrixXd& edit, const ConformalSnapResult& r, double bind_ms,
-            double runs) {
+void report(benchmark::State& state, const Mesh& m, const MatrixXd& edit, const ConformalSnapResult& r,
+            double bind_ms, double runs) {
   state.counters["bind_ms"] = bind_ms / runs;
   state.counters["fit_ms"] = r.timings.similarity_fit;
   state.counters["eigen_ms"] = r.timings.eigen;
@@ -189,7 +189,7 @@ const RetentionCase& retention_case(const std::string& name) {
     for (Index i = 0; i < c.edit.rows(); ++i) {
       const Vector3d p = c.rest.V.row(i).transpose();
       const double s = std::clamp((p.z() - 1.6) / 0.8, 0.0, 1.0), w = s * s * (3 - 2 * s);  // smoothstep
-      c.edit.row(i) = ((1 - w) * p + w * (Rl * (p - joint) + joint)).transpose();  // LBS of 2 bones
+      c.edit.row(i) = ((1 - w) * p + w * (Rl * (p - joint) + joint)).transpose();           // LBS of 2 bones
     }
   }
   return cache.emplace(name, std::move(c)).first->second;
@@ -242,25 +242,30 @@ int main(int argc, char** argv) {
     for (double t : {0.0, 0.25, 0.5, 0.75, 1.0}) {
       char label[64];
       std::snprintf(label, sizeof label, "retain/%s/t=%.2f", name, t);
-      benchmark::RegisterBenchmark(label, BM_retention, std::string(name), t, 0)->Iterations(1)->Unit(benchmark::kMillisecond);
+      benchmark::RegisterBenchmark(label, BM_retention, std::string(name), t, 0)
+          ->Iterations(1)
+          ->Unit(benchmark::kMillisecond);
     }
   // The skinned arm's ρ has spikes at the elbow crease: the same with 20 passes of ρ smoothing.
   for (double t : {0.5, 1.0}) {
     char label[64];
     std::snprintf(label, sizeof label, "retain/arm_lbs90_smooth20/t=%.2f", t);
-    benchmark::RegisterBenchmark(label, BM_retention, std::string("arm_lbs90"), t, 20)->Iterations(1)->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(label, BM_retention, std::string("arm_lbs90"), t, 20)
+        ->Iterations(1)
+        ->Unit(benchmark::kMillisecond);
   }
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   if (!retention_rows().empty()) {
-    std::fprintf(stderr, "\npose retention (angle between end axes, degrees; RMS relative to the edit's diagonal)\n");
-    std::fprintf(stderr, "%-16s %5s %10s %10s %6s %9s %8s %8s\n", "edit", "t", "angle_edit", "angle_snap", "kept",
-                 "rms_edit", "Q_edit", "Q_snap");
+    std::fprintf(stderr,
+                 "\npose retention (angle between end axes, degrees; RMS relative to the edit's diagonal)\n");
+    std::fprintf(stderr, "%-16s %5s %10s %10s %6s %9s %8s %8s\n", "edit", "t", "angle_edit", "angle_snap",
+                 "kept", "rms_edit", "Q_edit", "Q_snap");
     for (const RetentionRow& r : retention_rows())
-      std::fprintf(stderr, "%-16s %5.2f %10.1f %10.1f %6.2f %9.4f %8.4f %8.4f\n", r.name.c_str(), r.t, r.angle_edit,
-                   r.angle_snap, r.angle_snap / r.angle_edit, r.rms, r.q_edit, r.q_snap);
+      std::fprintf(stderr, "%-16s %5.2f %10.1f %10.1f %6.2f %9.4f %8.4f %8.4f\n", r.name.c_str(), r.t,
+                   r.angle_edit, r.angle_snap, r.angle_snap / r.angle_edit, r.rms, r.q_edit, r.q_snap);
   }
   return 0;
 }

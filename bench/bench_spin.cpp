@@ -155,10 +155,31 @@ int main(int argc, char** argv) {
       {"ours", [] { return SpinTransformOptions{}; }},
   };
   const std::vector<Config> study_rows = {
-      {"real_vertex", [] { SpinTransformOptions o; o.complex_form = false; return o; }},
-      {"amd", [] { SpinTransformOptions o; o.ordering = VertexOrdering::AMD; return o; }},
-      {"simplicial", [] { SpinTransformOptions o; o.supernodal = false; return o; }},
-      {"plain_iteration", [] { SpinTransformOptions o; o.krylov = false; o.iterations = 500; return o; }},
+      {"real_vertex",
+       [] {
+         SpinTransformOptions o;
+         o.complex_form = false;
+         return o;
+       }},
+      {"amd",
+       [] {
+         SpinTransformOptions o;
+         o.ordering = VertexOrdering::AMD;
+         return o;
+       }},
+      {"simplicial",
+       [] {
+         SpinTransformOptions o;
+         o.supernodal = false;
+         return o;
+       }},
+      {"plain_iteration",
+       [] {
+         SpinTransformOptions o;
+         o.krylov = false;
+         o.iterations = 500;
+         return o;
+       }},
       {"one_thread", [] { return SpinTransformOptions{}; }, true},
   };
   struct M {

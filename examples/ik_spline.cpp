@@ -13,20 +13,19 @@
 // figures (tip on the target within radius/100 on every frame, bone lengths kept to 1e-9, the tip
 // handle still a circle of the tube's radius) and exits 1 if one fails.
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "spinmotor/deform/spline_ik.hpp"
-#include "spinmotor/core/error.hpp"
 #include "spinmotor/core/atomic_file.hpp"
+#include "spinmotor/core/error.hpp"
+#include "spinmotor/core/stopwatch.hpp"
+#include "spinmotor/deform/spline_ik.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
-#include "spinmotor/core/stopwatch.hpp"
 
 using namespace spinmotor;
 using Clock = std::chrono::steady_clock;
@@ -78,7 +77,8 @@ int run(int argc, char** argv) {
   Rig rig{.handles = {ends[0], ends[1]}};
   const Eigen::Vector3d rest_target = rest_chain.row(4).transpose();
   rig.ik = IkChain{.chain = rest_chain, .target = rest_target, .tolerance = 1e-6, .iterations = 100};
-  SplineIkDeformer deformer = SplineIkDeformer::bind(tube, rig, {.controls = 5, .degree = 3, .warm_start = true});
+  SplineIkDeformer deformer =
+      SplineIkDeformer::bind(tube, rig, {.controls = 5, .degree = 3, .warm_start = true});
   const double bind_ms = ms_since(t_bind);
 
   // ---- pose: one target per frame ----------------------------------------------------------------
@@ -88,22 +88,26 @@ int run(int argc, char** argv) {
   double worst_tip = 0, worst_bone = 0, worst_ring = 0, total_pose_ms = 0;
   for (int f = 0; f < frames; ++f) {
     const Eigen::Vector3d target = target_at(static_cast<double>(f) / frames);
-    const ga::Mot to_target = ga::from_isometry(Eigen::Isometry3d(Eigen::Translation3d(target - rest_target)));
+    const ga::Mot to_target =
+        ga::from_isometry(Eigen::Isometry3d(Eigen::Translation3d(target - rest_target)));
     const auto t0 = Clock::now();
     deformer.pose(std::span(&to_target, 1), posed.V);
     const double frame_ms = ms_since(t0);
     const FabrikResult& ik = deformer.fabrik_result();
     const Eigen::MatrixXd& chain = ik.joints;
-    const double ik_ms = deformer.fabrik_ms(), fit_ms = deformer.fit_ms(), pose_ms = frame_ms - ik_ms - fit_ms;
+    const double ik_ms = deformer.fabrik_ms(), fit_ms = deformer.fit_ms(),
+                 pose_ms = frame_ms - ik_ms - fit_ms;
     total_pose_ms += frame_ms;
 
     // figures: the tip ring's centre on the target, bones of length 1, the tip ring still round
     const Eigen::Vector3d tip = centroid(posed.V, ends[1]);
     const double tip_error = (tip - target).norm();
     double bone = 0, round = 0;
-    for (int i = 0; i + 1 < 5; ++i) bone = std::max(bone, std::abs((chain.row(i + 1) - chain.row(i)).norm() - 1.0));
+    for (int i = 0; i + 1 < 5; ++i)
+      bone = std::max(bone, std::abs((chain.row(i + 1) - chain.row(i)).norm() - 1.0));
     for (Eigen::Index k = 0; k < ends[1].vertices.size(); ++k)
-      round = std::max(round, std::abs((posed.V.row(ends[1].vertices[k]).transpose() - tip).norm() - kRadius));
+      round =
+          std::max(round, std::abs((posed.V.row(ends[1].vertices[k]).transpose() - tip).norm() - kRadius));
     worst_tip = std::max(worst_tip, tip_error);
     worst_bone = std::max(worst_bone, bone);
     worst_ring = std::max(worst_ring, round);
@@ -111,26 +115,34 @@ int run(int argc, char** argv) {
     char name[64];
     std::snprintf(name, sizeof name, "ik_spline_%04d.obj", f + 1);
     write_mesh(std::filesystem::path(out) / name, posed);
-    per_frame.push_back({{"frame", f + 1}, {"target", {target.x(), target.y(), target.z()}}, {"tip_error", tip_error},
-                         {"ik_iterations", ik.iterations}, {"ik_ms", ik_ms}, {"fit_ms", fit_ms}, {"pose_ms", pose_ms}});
+    per_frame.push_back({{"frame", f + 1},
+                         {"target", {target.x(), target.y(), target.z()}},
+                         {"tip_error", tip_error},
+                         {"ik_iterations", ik.iterations},
+                         {"ik_ms", ik_ms},
+                         {"fit_ms", fit_ms},
+                         {"pose_ms", pose_ms}});
   }
 
-  const nlohmann::json report = {
-      {"example", "ik_spline"},
-      {"mesh", {{"vertices", tube.V.rows()}, {"faces", tube.F.rows()}}},
-      {"frames", frames},
-      {"bind_ms", bind_ms},
-      {"mean_frame_ms", total_pose_ms / frames},
-      {"max_tip_error", worst_tip},
-      {"max_bone_length_error", worst_bone},
-      {"max_tip_ring_radius_error", worst_ring},
-      {"per_frame", per_frame}};
+  const nlohmann::json report = {{"example", "ik_spline"},
+                                 {"mesh", {{"vertices", tube.V.rows()}, {"faces", tube.F.rows()}}},
+                                 {"frames", frames},
+                                 {"bind_ms", bind_ms},
+                                 {"mean_frame_ms", total_pose_ms / frames},
+                                 {"max_tip_error", worst_tip},
+                                 {"max_bone_length_error", worst_bone},
+                                 {"max_tip_ring_radius_error", worst_ring},
+                                 {"per_frame", per_frame}};
   write_text_atomic(std::filesystem::path(out) / "ik_spline.json", report.dump(1) + "\n");
-  std::printf("ik_spline: tube %lld vertices / %lld faces, %d frames, bind %.1f ms, IK + fit + pose %.2f ms per frame\n",
-              static_cast<long long>(tube.V.rows()), static_cast<long long>(tube.F.rows()), frames, bind_ms,
-              total_pose_ms / frames);
-  std::printf("  tip on target within %.2e (radius/100 = %.2e), bone lengths within %.1e, tip ring radius within %.1e\n",
-              worst_tip, kRadius / 100, worst_bone, worst_ring);
+  std::printf(
+      "ik_spline: tube %lld vertices / %lld faces, %d frames, bind %.1f ms, IK + fit + pose %.2f ms per "
+      "frame\n",
+      static_cast<long long>(tube.V.rows()), static_cast<long long>(tube.F.rows()), frames, bind_ms,
+      total_pose_ms / frames);
+  std::printf(
+      "  tip on target within %.2e (radius/100 = %.2e), bone lengths within %.1e, tip ring radius within "
+      "%.1e\n",
+      worst_tip, kRadius / 100, worst_bone, worst_ring);
   std::printf("  wrote %s/ik_spline_0001.obj .. %04d.obj and ik_spline.json\n", out.c_str(), frames);
 
   if (check) {

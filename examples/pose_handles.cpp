@@ -1,8 +1,8 @@
 // pose_handles: handle-based posing with motors (CGA paper §IV), then the conformal snap (Crane et al.
 // 2011 §7.2) of the pose.
 //
-// Spot (spot.obj of the shared meshes folder, textured) gets five vertex handles selected by boxes: the body and
-// three feet stay, the head turns 45° about the vertical axis through the neck and the front right leg
+// Spot (spot.obj of the shared meshes folder, textured) gets five vertex handles selected by boxes: the body
+// and three feet stay, the head turns 45° about the vertical axis through the neck and the front right leg
 // lifts (rotated 35° about the hip's x axis). Surface harmonic coordinates (mean-value weights, SuperLU)
 // blend the handle motors per vertex (log blend). The pose is then snapped onto its nearest spin
 // transformation. Printed: Q_mean / Q_max before and after the snap, and the texture anisotropy change
@@ -18,23 +18,22 @@
 // that the snap lowers Q_mean and the anisotropy change and keeps the pose (RMS distance < 5% of the
 // bounding-box diagonal), exit 1 otherwise.
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "spinmotor/deform/surface_harmonic.hpp"
-#include "spinmotor/core/error.hpp"
-#include "spinmotor/ga.hpp"
 #include "spinmotor/core/atomic_file.hpp"
+#include "spinmotor/core/error.hpp"
+#include "spinmotor/core/stopwatch.hpp"
+#include "spinmotor/deform/surface_harmonic.hpp"
+#include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/metrics/deformation_metrics.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
-#include "spinmotor/core/stopwatch.hpp"
 
 using namespace spinmotor;
 using Clock = std::chrono::steady_clock;
@@ -43,7 +42,6 @@ using Eigen::Vector3d;
 namespace {
 
 const ga::Mot kStay(1, 0, 0, 0, 0, 0, 0, 0);  // the identity motor: a handle that stays
-
 
 Handle box(const Mesh& m, const Vector3d& lo, const Vector3d& hi, const std::string& name) {
   std::vector<int> v;
@@ -66,11 +64,13 @@ ga::Mot turn(const Vector3d& axis, double degrees, const Vector3d& pivot) {
 /// Area-weighted mean over faces of |log(anisotropy of V's texture map / anisotropy of R's)|.
 double anisotropy_change(const Mesh& rest, const Eigen::MatrixXd& V) {
   auto ratio = [&](const Eigen::MatrixXd& X, Eigen::Index f, double* area) {
-    const Eigen::Vector2d t0 = rest.UV.row(rest.FUV(f, 0)), t1 = rest.UV.row(rest.FUV(f, 1)), t2 = rest.UV.row(rest.FUV(f, 2));
+    const Eigen::Vector2d t0 = rest.UV.row(rest.FUV(f, 0)), t1 = rest.UV.row(rest.FUV(f, 1)),
+                          t2 = rest.UV.row(rest.FUV(f, 2));
     Eigen::Matrix2d T;
     T << t1 - t0, t2 - t0;
     Eigen::Matrix<double, 3, 2> P;
-    P << (X.row(rest.F(f, 1)) - X.row(rest.F(f, 0))).transpose(), (X.row(rest.F(f, 2)) - X.row(rest.F(f, 0))).transpose();
+    P << (X.row(rest.F(f, 1)) - X.row(rest.F(f, 0))).transpose(),
+        (X.row(rest.F(f, 2)) - X.row(rest.F(f, 0))).transpose();
     const Eigen::Matrix<double, 3, 2> J = P * T.inverse();  // texture → surface
     const Eigen::Vector2d s = Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(J).singularValues();
     if (area) *area = 0.5 * P.col(0).cross(P.col(1)).norm();
@@ -105,7 +105,8 @@ int run(int argc, char** argv) {
     // capsule along z: the bottom stays, the top turns 45° about z (a twist) and tips over 35°
     rest = capsule(0.5, 3.0, 48, 24);
     const double top = rest.V.col(2).maxCoeff();
-    handles = {box(rest, {-1, -1, -1}, {1, 1, 0.0}, "bottom"), box(rest, {-1, -1, top - 0.6}, {1, 1, top + 1}, "top")};
+    handles = {box(rest, {-1, -1, -1}, {1, 1, 0.0}, "bottom"),
+               box(rest, {-1, -1, top - 0.6}, {1, 1, top + 1}, "top")};
     motors = {kStay, turn({1, 0, 0}, 35, {0, 0, top - 1.2}) * turn({0, 0, 1}, 45, {0, 0, 0})};
   } else {
     rest = read_mesh(mesh_path);
@@ -117,8 +118,8 @@ int run(int argc, char** argv) {
         box(rest, {-1, -0.80, 0.30}, {0.0, -0.60, 1.00}, "front_left_foot"),
         box(rest, {-1, -0.80, -1.0}, {1, -0.60, -0.10}, "hind_feet"),
     };
-    motors = {kStay, turn({0, 1, 0}, 45, {0, 0.2, 0.45}), turn({1, 0, 0}, -35, {0.2, -0.25, 0.55}),
-              kStay, kStay};
+    motors = {kStay, turn({0, 1, 0}, 45, {0, 0.2, 0.45}), turn({1, 0, 0}, -35, {0.2, -0.25, 0.55}), kStay,
+              kStay};
   }
 
   // ---- bind (all factorization), pose (arithmetic only) ---------------------------------------------
@@ -150,22 +151,29 @@ int run(int argc, char** argv) {
   write_mesh(std::filesystem::path(out) / "pose_handles_snapped.obj", m);
   const nlohmann::json report = {
       {"example", "pose_handles"},
-      {"mesh", {{"source", small ? "capsule" : mesh_path}, {"vertices", rest.V.rows()}, {"faces", rest.F.rows()}}},
-      {"bind_ms", bind_ms}, {"pose_ms", pose_ms}, {"snap_ms", snap_ms},
-      {"before", {{"q_mean", before.q_mean}, {"q_max", before.q_max}, {"texture_anisotropy_change", aniso_before}}},
-      {"after", {{"q_mean", after.q_mean}, {"q_max", after.q_max}, {"texture_anisotropy_change", aniso_after}}},
+      {"mesh",
+       {{"source", small ? "capsule" : mesh_path}, {"vertices", rest.V.rows()}, {"faces", rest.F.rows()}}},
+      {"bind_ms", bind_ms},
+      {"pose_ms", pose_ms},
+      {"snap_ms", snap_ms},
+      {"before",
+       {{"q_mean", before.q_mean}, {"q_max", before.q_max}, {"texture_anisotropy_change", aniso_before}}},
+      {"after",
+       {{"q_mean", after.q_mean}, {"q_max", after.q_max}, {"texture_anisotropy_change", aniso_after}}},
       {"rms_snap_to_pose", rms_to_pose}};
   write_text_atomic(std::filesystem::path(out) / "pose_handles.json", report.dump(1) + "\n");
 
-  std::printf("pose_handles: %s, %lld vertices / %lld faces, %zu handles\n", small ? "capsule" : mesh_path.c_str(),
-              static_cast<long long>(rest.V.rows()), static_cast<long long>(rest.F.rows()), handles.size());
+  std::printf("pose_handles: %s, %lld vertices / %lld faces, %zu handles\n",
+              small ? "capsule" : mesh_path.c_str(), static_cast<long long>(rest.V.rows()),
+              static_cast<long long>(rest.F.rows()), handles.size());
   std::printf("  bind %.1f ms, pose %.2f ms, snap %.1f ms\n", bind_ms, pose_ms, snap_ms);
-  std::printf("  %-8s Q_mean %.4f  Q_max %.3f  texture anisotropy change %.4f\n", "posed", before.q_mean, before.q_max,
-              aniso_before);
-  std::printf("  %-8s Q_mean %.4f  Q_max %.3f  texture anisotropy change %.4f\n", "snapped", after.q_mean, after.q_max,
-              aniso_after);
-  std::printf("  snap moved the pose by %.2f%% of the diagonal (RMS); wrote %s/pose_handles_{posed,snapped}.obj\n",
-              100 * rms_to_pose, out.c_str());
+  std::printf("  %-8s Q_mean %.4f  Q_max %.3f  texture anisotropy change %.4f\n", "posed", before.q_mean,
+              before.q_max, aniso_before);
+  std::printf("  %-8s Q_mean %.4f  Q_max %.3f  texture anisotropy change %.4f\n", "snapped", after.q_mean,
+              after.q_max, aniso_after);
+  std::printf(
+      "  snap moved the pose by %.2f%% of the diagonal (RMS); wrote %s/pose_handles_{posed,snapped}.obj\n",
+      100 * rms_to_pose, out.c_str());
 
   if (check) {
     bool ok = true;

@@ -13,30 +13,28 @@
 // Writes out/rig_cleanup_<blend>.obj, out/rig_cleanup_<blend>_snapped.obj and out/rig_cleanup.json.
 // --check asserts: LBS keeps less volume than DLB and Log; the snap lowers Q_mean for every blend.
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "spinmotor/deform/skinning.hpp"
-#include "spinmotor/core/error.hpp"
-#include "spinmotor/ga.hpp"
 #include "spinmotor/core/atomic_file.hpp"
+#include "spinmotor/core/error.hpp"
+#include "spinmotor/core/stopwatch.hpp"
+#include "spinmotor/deform/skinning.hpp"
+#include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/metrics/deformation_metrics.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
-#include "spinmotor/core/stopwatch.hpp"
 
 using namespace spinmotor;
 using Clock = std::chrono::steady_clock;
 using Eigen::Vector3d;
 
 namespace {
-
 
 /// Enclosed volume of a closed, outward-oriented mesh (divergence theorem).
 double volume(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
@@ -80,8 +78,9 @@ int run(int argc, char** argv) {
   const double weights_ms = ms_since(t_weights);
 
   // pose: the forearm twists 90° about its axis, then bends 90° at the elbow
-  const std::vector<ga::Mot> frames = {ga::Mot(1, 0, 0, 0, 0, 0, 0, 0),
-                                       about({1, 0, 0}, 90, {0, 0, elbow}) * about({0, 0, 1}, 90, {0, 0, elbow})};
+  const std::vector<ga::Mot> frames = {
+      ga::Mot(1, 0, 0, 0, 0, 0, 0, 0),
+      about({1, 0, 0}, 90, {0, 0, elbow}) * about({0, 0, 1}, 90, {0, 0, elbow})};
 
   const double rest_volume = volume(arm.V, arm.F);
   std::filesystem::create_directories(out);
@@ -90,17 +89,21 @@ int run(int argc, char** argv) {
     const char* name;
     SkinDeformer::Blend blend;
   };
-  const Row rows[] = {{"lbs", SkinDeformer::Blend::LBS}, {"dlb", SkinDeformer::Blend::Linear},
+  const Row rows[] = {{"lbs", SkinDeformer::Blend::LBS},
+                      {"dlb", SkinDeformer::Blend::Linear},
                       {"log", SkinDeformer::Blend::Log}};
   nlohmann::json report = {{"example", "rig_cleanup"},
                            {"mesh", {{"vertices", arm.V.rows()}, {"faces", arm.F.rows()}}},
                            {"weights_ms", weights_ms},
                            {"snap_bind_ms", snapper.bind_ms()},
                            {"blends", nlohmann::json::object()}};
-  std::printf("rig_cleanup: capsule arm %lld vertices / %lld faces, 2 bones, harmonic weights %.1f ms, snap bind %.1f ms\n",
-              static_cast<long long>(arm.V.rows()), static_cast<long long>(arm.F.rows()), weights_ms, snapper.bind_ms());
-  std::printf("  %-5s %8s %9s %8s | %9s %8s %8s | %10s %8s %8s\n", "blend", "volume", "Q_mean", "Q_max", "snap Q_mean",
-              "Q_max", "volume", "RMS moved", "pose ms", "snap ms");
+  std::printf(
+      "rig_cleanup: capsule arm %lld vertices / %lld faces, 2 bones, harmonic weights %.1f ms, snap bind "
+      "%.1f ms\n",
+      static_cast<long long>(arm.V.rows()), static_cast<long long>(arm.F.rows()), weights_ms,
+      snapper.bind_ms());
+  std::printf("  %-5s %8s %9s %8s | %9s %8s %8s | %10s %8s %8s\n", "blend", "volume", "Q_mean", "Q_max",
+              "snap Q_mean", "Q_max", "volume", "RMS moved", "pose ms", "snap ms");
   bool ok = true;
   double lbs_volume = 0;
   for (const Row& row : rows) {
@@ -116,16 +119,18 @@ int run(int argc, char** argv) {
     const DeformationMetrics before = compute_metrics(arm, V), after = compute_metrics(arm, s.V);
     const double vol = volume(V, arm.F) / rest_volume, vol_snap = volume(s.V, arm.F) / rest_volume;
     const double moved = std::sqrt((s.V - V).rowwise().squaredNorm().mean()) / before.diagonal;
-    std::printf("  %-5s %8.4f %9.4f %8.3f | %11.4f %8.3f %8.4f | %9.2f%% %8.2f %8.1f\n", row.name, vol, before.q_mean,
-                before.q_max, after.q_mean, after.q_max, vol_snap, 100 * moved, pose_ms, snap_ms);
+    std::printf("  %-5s %8.4f %9.4f %8.3f | %11.4f %8.3f %8.4f | %9.2f%% %8.2f %8.1f\n", row.name, vol,
+                before.q_mean, before.q_max, after.q_mean, after.q_max, vol_snap, 100 * moved, pose_ms,
+                snap_ms);
     Mesh m = arm;
     m.V = V;
     write_mesh(std::filesystem::path(out) / ("rig_cleanup_" + std::string(row.name) + ".obj"), m);
     m.V = s.V;
     write_mesh(std::filesystem::path(out) / ("rig_cleanup_" + std::string(row.name) + "_snapped.obj"), m);
-    report["blends"][row.name] = {{"volume_ratio", vol},        {"q_mean", before.q_mean},  {"q_max", before.q_max},
-                                  {"snap_q_mean", after.q_mean}, {"snap_q_max", after.q_max}, {"snap_volume_ratio", vol_snap},
-                                  {"rms_snap_to_pose", moved},   {"pose_ms", pose_ms},      {"snap_ms", snap_ms}};
+    report["blends"][row.name] = {
+        {"volume_ratio", vol},         {"q_mean", before.q_mean},   {"q_max", before.q_max},
+        {"snap_q_mean", after.q_mean}, {"snap_q_max", after.q_max}, {"snap_volume_ratio", vol_snap},
+        {"rms_snap_to_pose", moved},   {"pose_ms", pose_ms},        {"snap_ms", snap_ms}};
     if (row.blend == SkinDeformer::Blend::LBS)
       lbs_volume = vol;
     else if (check && !(lbs_volume < vol)) {

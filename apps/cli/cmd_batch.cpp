@@ -12,15 +12,15 @@
 // running the same command again. One failing mesh does not stop the others; the exit code is the
 // worst one of the runs (0 all ok, 2 a bad input, 3 a numerical failure). Progress lines with elapsed
 // time and ETA go to stderr unless -q.
+#include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
-#include <fcntl.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <cctype>
-#include <cstring>
+#include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -92,7 +92,8 @@ std::string substitute(std::string s, const Job& j) {
   const std::pair<std::string, std::string> keys[] = {
       {"{in}", j.input.string()}, {"{out}", j.output.string()}, {"{stem}", j.input.stem().string()}};
   for (const auto& [k, v] : keys)
-    for (std::size_t p = s.find(k); p != std::string::npos; p = s.find(k, p + v.size())) s.replace(p, k.size(), v);
+    for (std::size_t p = s.find(k); p != std::string::npos; p = s.find(k, p + v.size()))
+      s.replace(p, k.size(), v);
   return s;
 }
 
@@ -144,7 +145,8 @@ void run(const BatchArgs& a) {
   }
   if (inputs.empty()) throw Error("batch: no input meshes (give MESH... or --list FILE)");
   const std::vector<std::string> command = split_words(a.run);
-  if (command.empty()) throw Error("batch: --run is empty (e.g. --run \"spin {in} --rho-expr 0.5*z --out {out}\")");
+  if (command.empty())
+    throw Error("batch: --run is empty (e.g. --run \"spin {in} --rho-expr 0.5*z --out {out}\")");
   if (command[0] == "batch") throw Error("batch: the command cannot be batch itself");
   bool has_in = false, has_out = false;
   for (const std::string& s : command) {
@@ -164,7 +166,8 @@ void run(const BatchArgs& a) {
     if (!fs::exists(j.input)) throw Error("batch: input " + in + " does not exist");
     const std::string stem = j.input.stem().string();
     if (auto [it, fresh] = stems.emplace(stem, in); !fresh)
-      throw Error("batch: inputs " + it->second + " and " + in + " would write the same output (stem '" + stem + "')");
+      throw Error("batch: inputs " + it->second + " and " + in + " would write the same output (stem '" +
+                  stem + "')");
     j.output = out_dir / (stem + a.suffix);
     j.log = logs / (stem + ".log");
     if (fs::exists(j.output)) j.status = "skipped";  // atomic outputs: existing means complete
@@ -180,7 +183,8 @@ void run(const BatchArgs& a) {
   auto report_progress = [&](const Job& j) {
     if (a.quiet) return;
     const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
-    const double eta = done < todo ? elapsed / static_cast<double>(done) * static_cast<double>(todo - done) : 0.0;
+    const double eta =
+        done < todo ? elapsed / static_cast<double>(done) * static_cast<double>(todo - done) : 0.0;
     std::cerr << "batch: [" << done << "/" << todo << "] " << j.input.filename().string() << " " << j.status
               << " (" << duration(j.seconds) << ", exit " << j.exit_code << "); elapsed " << duration(elapsed)
               << (done < todo ? ", ETA " + duration(eta) : std::string()) << '\n';
@@ -217,21 +221,28 @@ void run(const BatchArgs& a) {
   for (const Job& j : jobs) {
     ++counts[j.status];
     if (j.status == "failed") worst = std::max(worst, j.exit_code == 2 || j.exit_code == 3 ? j.exit_code : 3);
-    runs.push_back({{"input", j.input.string()}, {"output", j.output.string()}, {"status", j.status},
-                    {"exit_code", j.exit_code}, {"seconds", j.seconds}, {"log", j.log.string()}});
+    runs.push_back({{"input", j.input.string()},
+                    {"output", j.output.string()},
+                    {"status", j.status},
+                    {"exit_code", j.exit_code},
+                    {"seconds", j.seconds},
+                    {"log", j.log.string()}});
   }
   const double total = std::chrono::duration<double>(Clock::now() - t0).count();
   if (a.json) {
-    std::cout << nlohmann::json{{"inputs", jobs.size()}, {"ok", counts["ok"]}, {"skipped", counts["skipped"]},
-                                {"failed", counts["failed"]}, {"seconds", total}, {"runs", runs}}
-                     .dump(2)
-              << '\n';
+    std::cout
+        << nlohmann::json{{"inputs", jobs.size()},      {"ok", counts["ok"]}, {"skipped", counts["skipped"]},
+                          {"failed", counts["failed"]}, {"seconds", total},   {"runs", runs}}
+               .dump(2)
+        << '\n';
   } else if (!a.quiet) {
     std::cout << "batch: " << jobs.size() << " inputs: " << counts["ok"] << " ok, " << counts["skipped"]
-              << " skipped (output exists), " << counts["failed"] << " failed, in " << duration(total) << '\n';
+              << " skipped (output exists), " << counts["failed"] << " failed, in " << duration(total)
+              << '\n';
     for (const Job& j : jobs)
       if (j.status == "failed")
-        std::cout << "  failed (exit " << j.exit_code << "): " << j.input.string() << ", see " << j.log.string() << '\n';
+        std::cout << "  failed (exit " << j.exit_code << "): " << j.input.string() << ", see "
+                  << j.log.string() << '\n';
   }
   if (worst != 0)
     throw Error("batch: " + std::to_string(counts["failed"]) + " of " + std::to_string(jobs.size()) +
@@ -244,19 +255,26 @@ const RegisterCommand reg{
     [](CLI::App& sub) {
       auto a = std::make_shared<BatchArgs>();
       sub.add_option("MESH", a->inputs, "Input meshes");
-      sub.add_option("--run", a->run, "The subcommand and its arguments, with {in}, {out} and {stem}")->required();
+      sub.add_option("--run", a->run, "The subcommand and its arguments, with {in}, {out} and {stem}")
+          ->required();
       sub.add_option("--list", a->list, "Text file with one input mesh per line ('#' comments)");
       sub.add_option("--out-dir", a->out_dir, "Directory of the outputs ({out}) and of logs/")->required();
       sub.add_option("--suffix", a->suffix, "Output file name = input stem + suffix")->capture_default_str();
-      sub.add_option("-j,--jobs", a->jobs, "Processes at a time")->capture_default_str()->check(CLI::Range(1, 1024));
+      sub.add_option("-j,--jobs", a->jobs, "Processes at a time")
+          ->capture_default_str()
+          ->check(CLI::Range(1, 1024));
       sub.add_flag("--json", a->json, "Print a JSON summary");
       sub.add_flag("-q,--quiet", a->quiet, "No progress lines and no summary (the exit code remains)");
       sub.footer(
           "Examples:\n"
-          "  spinmotor batch -j 2 --out-dir faired --run \"flow {in} --willmore 0.3 --steps 5 --out {out}\" meshes/*.obj\n"
-          "  spinmotor batch --list todo.txt --out-dir snapped --run \"snap rest/{stem}.obj {in} --out {out}\"\n"
-          "Run it again after an interruption: finished outputs are skipped. On a cluster, submit one job per\n"
-          "mesh running the same command with a single MESH (or an array job indexing --list); outputs are atomic.");
+          "  spinmotor batch -j 2 --out-dir faired --run \"flow {in} --willmore 0.3 --steps 5 --out {out}\" "
+          "meshes/*.obj\n"
+          "  spinmotor batch --list todo.txt --out-dir snapped --run \"snap rest/{stem}.obj {in} --out "
+          "{out}\"\n"
+          "Run it again after an interruption: finished outputs are skipped. On a cluster, submit one job "
+          "per\n"
+          "mesh running the same command with a single MESH (or an array job indexing --list); outputs are "
+          "atomic.");
       sub.callback([a] { run(*a); });
     }};
 

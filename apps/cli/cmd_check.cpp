@@ -102,12 +102,14 @@ const spinmotor::cli::RegisterCommand reg{
       auto args = std::make_shared<Args>();
       sub.add_option("MESH", args->mesh, "Mesh file (OBJ, OFF, PLY, STL)")->required();
       sub.add_flag("--json", args->json, "Print one JSON object instead of a table");
-      sub.add_flag("-q,--quiet", args->quiet, "Print nothing but errors: the exit code says whether the mesh has defects");
+      sub.add_flag("-q,--quiet", args->quiet,
+                   "Print nothing but errors: the exit code says whether the mesh has defects");
       sub.footer(
           "Examples:\n"
           "  spinmotor check spot.obj\n"
           "  spinmotor check scan.ply --json > report.json\n"
-          "  for f in *.obj; do spinmotor check -q \"$f\" || echo \"$f\"; done   # list the meshes with defects");
+          "  for f in *.obj; do spinmotor check -q \"$f\" || echo \"$f\"; done   # list the meshes with "
+          "defects");
       sub.callback([args] {
         const spinmotor::Mesh mesh = spinmotor::read_mesh(args->mesh);  // throws Error (exit 2) if unreadable
         const MeshReport r = spinmotor::validate(mesh);

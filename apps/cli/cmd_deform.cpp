@@ -24,7 +24,9 @@ std::string fmt(const char* f, double v) {
   return b;
 }
 
-std::string number(const nlohmann::json& j, const char* f) { return j.is_number() ? fmt(f, j.get<double>()) : "n/a"; }
+std::string number(const nlohmann::json& j, const char* f) {
+  return j.is_number() ? fmt(f, j.get<double>()) : "n/a";
+}
 
 void run(const DeformArgs& a) {
   using namespace spinmotor::scene;
@@ -32,7 +34,8 @@ void run(const DeformArgs& a) {
     std::cout << scene_schema_text();
     return;
   }
-  if (a.scene.empty()) throw spinmotor::Error("deform: a scene file is required (spinmotor deform SCENE.json)");
+  if (a.scene.empty())
+    throw spinmotor::Error("deform: a scene file is required (spinmotor deform SCENE.json)");
   const Scene scene = load_scene(a.scene);
   // Progress on stderr once the run has taken more than a second: bind, then frames with an ETA.
   const RunResult r = run_scene(scene, [&](std::size_t f, std::size_t n, double t) {
@@ -66,12 +69,14 @@ void run(const DeformArgs& a) {
   for (std::size_t f = 0; f < r.frames.size(); ++f) {
     const nlohmann::json& m = r.frames[f].metrics;
     std::cout << "  " << (scene.animated ? "frame " + std::to_string(f) + ": " : std::string()) << "pose "
-              << fmt("%.2f", r.frames[f].pose_ms) << " ms, Q mean " << number(m["q_mean"], "%.4f") << ", Q max "
-              << number(m["q_max"], "%.4f") << ", area distortion " << number(m["area_distortion"], "%.4f")
-              << ", max handle error " << number(m.value("max_handle_error", nlohmann::json()), "%.3g") << '\n';
+              << fmt("%.2f", r.frames[f].pose_ms) << " ms, Q mean " << number(m["q_mean"], "%.4f")
+              << ", Q max " << number(m["q_max"], "%.4f") << ", area distortion "
+              << number(m["area_distortion"], "%.4f") << ", max handle error "
+              << number(m.value("max_handle_error", nlohmann::json()), "%.3g") << '\n';
     if (m.contains("ik"))
       std::cout << "  ik: " << (m["ik"]["converged"].get<bool>() ? "reached" : "not reached") << " in "
-                << m["ik"]["iterations"] << " iterations, tip error " << number(m["ik"]["tip_error"], "%.3g") << '\n';
+                << m["ik"]["iterations"] << " iterations, tip error " << number(m["ik"]["tip_error"], "%.3g")
+                << '\n';
   }
   for (const auto& p : written) std::cout << "  wrote " << p.string() << '\n';
 }
@@ -81,14 +86,16 @@ const spinmotor::cli::RegisterCommand reg{
     [](CLI::App& sub) {
       auto a = std::make_shared<DeformArgs>();
       sub.add_option("scene", a->scene, "Scene file (JSON, see docs/scene.md)");
-      sub.add_option("--out-dir", a->out_dir, "Resolve relative output paths against DIR instead of the scene's folder");
+      sub.add_option("--out-dir", a->out_dir,
+                     "Resolve relative output paths against DIR instead of the scene's folder");
       sub.add_flag("--json", a->json, "Print the metrics as JSON on stdout (an array for animations)");
       sub.add_flag("--quiet,-q", a->quiet, "Print nothing but warnings and errors");
       sub.add_flag("--schema", a->schema, "Print the scene JSON Schema and exit");
       sub.footer(
           "Examples:\n"
           "  spinmotor deform tests/data/scenes/ik_tube.json          # IK-driven spline deformation\n"
-          "  spinmotor deform pose.json --out-dir results --json     # outputs under results/, metrics on stdout\n"
+          "  spinmotor deform pose.json --out-dir results --json     # outputs under results/, metrics on "
+          "stdout\n"
           "  spinmotor deform --schema > scene.schema.json           # the scene format (JSON Schema)");
       sub.callback([a] { run(*a); });
     }};

@@ -4,35 +4,34 @@
 // cleanup of a rigged edit (snap and pose-keeping cleanup with the rigid parts pinned) — plus
 // a closed-form twist snapped back (Crane 2011 Fig. 21) and a painted spin transformation, writes
 // meshes + one metrics JSON to out/, and prints one summary table (sizes, bind/pose/snap times, Q).
+#include <Eigen/Geometry>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <functional>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <numbers>
 
-#include <nlohmann/json.hpp>
-
 #include "command.hpp"
-#include "spinmotor/core/error.hpp"
 #include "spinmotor/core/atomic_file.hpp"
+#include "spinmotor/core/error.hpp"
+#include "spinmotor/core/stopwatch.hpp"
+#include "spinmotor/deform/rig_pins.hpp"
+#include "spinmotor/deform/skinning.hpp"
+#include "spinmotor/deform/spline_deformer.hpp"
+#include "spinmotor/deform/spline_ik.hpp"
+#include "spinmotor/deform/surface_harmonic.hpp"
+#include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/metrics.hpp"
 #include "spinmotor/mesh/metrics/json.hpp"
 #include "spinmotor/mesh/validate.hpp"
-#include "spinmotor/deform/rig_pins.hpp"
-#include "spinmotor/deform/spline_ik.hpp"
-#include "spinmotor/deform/skinning.hpp"
-#include "spinmotor/deform/spline_deformer.hpp"
-#include "spinmotor/deform/surface_harmonic.hpp"
-#include "spinmotor/ga.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
 #include "spinmotor/spin/pinned_cleanup.hpp"
 #include "spinmotor/spin/spin_transform.hpp"
-#include <Eigen/Geometry>
 #include "summary_table.hpp"
-#include "spinmotor/core/stopwatch.hpp"
 
 namespace spinmotor::cli {
 namespace {
@@ -75,7 +74,9 @@ Mesh stage_capsule(Demo& d) {
   const double gen_ms = ms_since(t0);
   write_mesh(d.out_dir / "capsule.obj", capsule_mesh);
   d.row("capsule: generate + validate", capsule_mesh, gen_ms, 1.0, 1.0, "capsule.obj");
-  d.report["capsule"] = {{"vertices", report.vertices}, {"faces", report.faces}, {"genus", report.genus},
+  d.report["capsule"] = {{"vertices", report.vertices},
+                         {"faces", report.faces},
+                         {"genus", report.genus},
                          {"generate_validate_ms", gen_ms}};
   d.progress("generated and validated the capsule");
 
@@ -90,7 +91,8 @@ Mesh stage_twist(Demo& d, const Mesh& capsule_mesh) {
   const DeformationMetrics tm = compute_metrics(capsule_mesh, twisted.V);
   const double twist_ms = ms_since(t0);
   write_mesh(d.out_dir / "capsule-twisted.obj", twisted);
-  d.row("twist 90 deg (closed form) + metrics", twisted, twist_ms, tm.q_mean, tm.q_max, "capsule-twisted.obj");
+  d.row("twist 90 deg (closed form) + metrics", twisted, twist_ms, tm.q_mean, tm.q_max,
+        "capsule-twisted.obj");
   d.report["twist"] = to_json(tm);
   d.progress("twisted the capsule and measured it");
 
@@ -118,7 +120,8 @@ Mesh stage_pose(Demo& d, const Mesh& capsule_mesh, std::vector<Handle>& handles)
   tip_pose.translate(Eigen::Vector3d(0.0, 0.6, 3.0));
   tip_pose.rotate(Eigen::AngleAxisd(std::numbers::pi / 3.0, Eigen::Vector3d::UnitX()));
   tip_pose.translate(Eigen::Vector3d(0.0, 0.0, -3.0));
-  const std::vector<ga::Mot> motors{ga::from_isometry(Eigen::Isometry3d::Identity()), ga::from_isometry(tip_pose)};
+  const std::vector<ga::Mot> motors{ga::from_isometry(Eigen::Isometry3d::Identity()),
+                                    ga::from_isometry(tip_pose)};
   Mesh posed = capsule_mesh;
   deformer.pose(motors, posed.V);  // first frame sizes the buffer
   t0 = std::chrono::steady_clock::now();
@@ -144,7 +147,8 @@ void stage_snaps(Demo& d, const Mesh& capsule_mesh, const Mesh& twisted, const M
   ConformalSnap snapper(capsule_mesh);
   const double snap_bind_ms = ms_since(t0);
   d.row("conformal snap bind (rest capsule)", capsule_mesh, snap_bind_ms, std::nan(""), std::nan(""), "");
-  for (const auto& [name, edit] : {std::pair<std::string, const Mesh*>{"twist", &twisted}, {"pose", &posed}}) {
+  for (const auto& [name, edit] :
+       {std::pair<std::string, const Mesh*>{"twist", &twisted}, {"pose", &posed}}) {
     t0 = std::chrono::steady_clock::now();
     const ConformalSnapResult r = snapper.snap(edit->V);
     const double ms = ms_since(t0);
@@ -161,14 +165,15 @@ void stage_snaps(Demo& d, const Mesh& capsule_mesh, const Mesh& twisted, const M
   }
   d.report["snap_bind_ms"] = snap_bind_ms;
   d.progress("snapped the twist and the pose");
-
 }
 
 /// 3c. The pose-keeping cleanup (spin/pinned_cleanup.hpp) of the pose: the handles' vertices stay
 ///     exactly where the deformer put them, the rest is made as conformal as possible at the rest volume.
-void stage_pose_cleanup(Demo& d, const Mesh& capsule_mesh, const Mesh& posed, std::span<const Handle> handles) {
+void stage_pose_cleanup(Demo& d, const Mesh& capsule_mesh, const Mesh& posed,
+                        std::span<const Handle> handles) {
   std::vector<int> pins;
-  for (const Handle& h : handles) pins.insert(pins.end(), h.vertices.data(), h.vertices.data() + h.vertices.size());
+  for (const Handle& h : handles)
+    pins.insert(pins.end(), h.vertices.data(), h.vertices.data() + h.vertices.size());
   auto t0 = std::chrono::steady_clock::now();
   PinnedCleanup cleanup = PinnedCleanup::bind(capsule_mesh, pins);
   const double bind_ms = ms_since(t0);
@@ -195,8 +200,10 @@ void stage_spin(Demo& d, const Mesh& capsule_mesh) {
   Eigen::VectorXd rho(capsule_mesh.num_faces());
   const Eigen::RowVector3d bump_centre(0.5, 0.0, 1.5);
   for (Eigen::Index f = 0; f < capsule_mesh.num_faces(); ++f) {
-    const Eigen::RowVector3d c = (capsule_mesh.V.row(capsule_mesh.F(f, 0)) + capsule_mesh.V.row(capsule_mesh.F(f, 1)) +
-                                  capsule_mesh.V.row(capsule_mesh.F(f, 2))) / 3.0;
+    const Eigen::RowVector3d c =
+        (capsule_mesh.V.row(capsule_mesh.F(f, 0)) + capsule_mesh.V.row(capsule_mesh.F(f, 1)) +
+         capsule_mesh.V.row(capsule_mesh.F(f, 2))) /
+        3.0;
     rho[f] = 4.0 * std::exp(-(c - bump_centre).squaredNorm() / (2 * 0.3 * 0.3));
   }
   auto t0 = std::chrono::steady_clock::now();
@@ -213,7 +220,6 @@ void stage_spin(Demo& d, const Mesh& capsule_mesh) {
   d.report["spin"]["eigen_iterations"] = sr.iterations;
   d.report["spin"]["eigen_residual"] = sr.residual;
   d.progress("applied a spin transformation");
-
 }
 
 /// 5. IK-driven spline deformation (CGA paper §III.C): a tube tentacle's 5-joint FABRIK chain reaches
@@ -233,16 +239,19 @@ void stage_ik(Demo& d) {
   auto t0 = std::chrono::steady_clock::now();
   // The rest target is the tip joint; the pose's one motor carries it to `target` (FABRIK + fit + pose).
   Rig ik_rig{.handles = {ends[0], ends[1]}};
-  ik_rig.ik = IkChain{.chain = chain, .target = chain.row(4).transpose(), .tolerance = 1e-6, .iterations = 100};
+  ik_rig.ik =
+      IkChain{.chain = chain, .target = chain.row(4).transpose(), .tolerance = 1e-6, .iterations = 100};
   SplineIkDeformer spline = SplineIkDeformer::bind(tube_mesh, ik_rig, {.controls = 5, .degree = 3});
   const double spline_bind_ms = ms_since(t0);
   t0 = std::chrono::steady_clock::now();
   Mesh bent = tube_mesh;
-  const ga::Mot to_target = ga::from_isometry(Eigen::Isometry3d(Eigen::Translation3d(target - chain.row(4).transpose())));
+  const ga::Mot to_target =
+      ga::from_isometry(Eigen::Isometry3d(Eigen::Translation3d(target - chain.row(4).transpose())));
   spline.pose(std::span(&to_target, 1), bent.V);
   const double ik_pose_ms = ms_since(t0);
   Eigen::Vector3d tip_centre = Eigen::Vector3d::Zero();
-  for (Eigen::Index k = 0; k < ends[1].vertices.size(); ++k) tip_centre += bent.V.row(ends[1].vertices[k]).transpose();
+  for (Eigen::Index k = 0; k < ends[1].vertices.size(); ++k)
+    tip_centre += bent.V.row(ends[1].vertices[k]).transpose();
   tip_centre /= static_cast<double>(ends[1].vertices.size());
   const DeformationMetrics im = compute_metrics(tube_mesh, bent.V);
   write_mesh(d.out_dir / "tube-ik.obj", bent);
@@ -253,7 +262,6 @@ void stage_ik(Demo& d) {
   d.report["ik_spline"]["ik_fit_pose_ms"] = ik_pose_ms;
   d.report["ik_spline"]["tip_error"] = (tip_centre - target).norm();
   d.progress("bent the tube with IK");
-
 }
 
 /// 6. Conformal cleanup of a rigged edit: a two-bone arm with harmonic bone weights, the forearm bent
@@ -292,7 +300,8 @@ void stage_rig(Demo& d) {
   write_mesh(d.out_dir / "arm-lbs-snapped.obj", arm_snapped);
   d.row("skin bind (2 bones, harmonic weights)", arm, skin_bind_ms, std::nan(""), std::nan(""), "");
   d.row("skin pose (LBS, bend + twist 90 deg)", skinned, skin_pose_ms, km.q_mean, km.q_max, "arm-lbs.obj");
-  d.row("conformal snap of the skinned arm", arm_snapped, arm_snap_ms, ksm.q_mean, ksm.q_max, "arm-lbs-snapped.obj");
+  d.row("conformal snap of the skinned arm", arm_snapped, arm_snap_ms, ksm.q_mean, ksm.q_max,
+        "arm-lbs-snapped.obj");
   // The pose-keeping cleanup: vertices of one bone (weight ≥ 0.999) farther than a quarter of the
   // elbow's blend width from any blended vertex are pinned.
   t0 = std::chrono::steady_clock::now();
@@ -307,20 +316,22 @@ void stage_rig(Demo& d) {
   write_mesh(d.out_dir / "arm-lbs-cleaned.obj", arm_cleaned);
   d.row("pinned cleanup bind (" + std::to_string(pins.size()) + " pins from the weights)", arm, clean_bind_ms,
         std::nan(""), std::nan(""), "");
-  d.row("pinned cleanup of the skinned arm", arm_cleaned, arm_clean_ms, kcm.q_mean, kcm.q_max, "arm-lbs-cleaned.obj");
-  d.report["rig_cleanup"] = {{"lbs", to_json(km)},
-                             {"snapped", to_json(ksm)},
-                             {"cleaned", to_json(kcm)},
-                             {"bind_ms", skin_bind_ms},
-                             {"pose_ms", skin_pose_ms},
-                             {"snap_ms", arm_snap_ms},
-                             {"cleanup_bind_ms", clean_bind_ms},
-                             {"cleanup_ms", arm_clean_ms},
-                             {"pins", pins.size()},
-                             {"cleanup_iterations", kc.iterations},
-                             {"volume_ratio_lbs", kc.rest_measure != 0 ? kc.edit_measure / kc.rest_measure : 1.0},
-                             {"volume_ratio_cleaned", kc.measure_ratio()},
-                             {"pin_error", kc.pin_error}};
+  d.row("pinned cleanup of the skinned arm", arm_cleaned, arm_clean_ms, kcm.q_mean, kcm.q_max,
+        "arm-lbs-cleaned.obj");
+  d.report["rig_cleanup"] = {
+      {"lbs", to_json(km)},
+      {"snapped", to_json(ksm)},
+      {"cleaned", to_json(kcm)},
+      {"bind_ms", skin_bind_ms},
+      {"pose_ms", skin_pose_ms},
+      {"snap_ms", arm_snap_ms},
+      {"cleanup_bind_ms", clean_bind_ms},
+      {"cleanup_ms", arm_clean_ms},
+      {"pins", pins.size()},
+      {"cleanup_iterations", kc.iterations},
+      {"volume_ratio_lbs", kc.rest_measure != 0 ? kc.edit_measure / kc.rest_measure : 1.0},
+      {"volume_ratio_cleaned", kc.measure_ratio()},
+      {"pin_error", kc.pin_error}};
   d.progress("skinned the arm, snapped it and cleaned it up with the rigid parts pinned");
 }
 
@@ -344,8 +355,10 @@ const RegisterCommand reg{
       auto json = std::make_shared<bool>(false);
       sub.add_option("--out", *out, "Output directory")->capture_default_str();
       sub.add_flag("-q,--quiet", *quiet, "Print only the summary table");
-      sub.add_flag("--json", *json, "Print the metrics JSON (also written to OUT/demo.json) instead of the table");
-      sub.footer("Examples:\n  spinmotor demo\n  spinmotor demo --out /tmp/demo --json | jq .snap_twist.q_mean\n");
+      sub.add_flag("--json", *json,
+                   "Print the metrics JSON (also written to OUT/demo.json) instead of the table");
+      sub.footer(
+          "Examples:\n  spinmotor demo\n  spinmotor demo --out /tmp/demo --json | jq .snap_twist.q_mean\n");
       sub.callback([out, quiet, json] {
         Demo d;
         d.out_dir = *out;

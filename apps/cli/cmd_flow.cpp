@@ -109,8 +109,10 @@ const cli::RegisterCommand reg{
       sub.add_flag("--quiet,-q", a->quiet, "Print nothing but errors");
       sub.footer(
           "Examples:\n"
-          "  spinmotor flow bumpy_disk.obj --willmore 0.3 --steps 5 --out smooth.obj   # W x ~(1-0.3)^2 per step\n"
-          "  spinmotor flow neck.obj --minimal --out minimal.obj --json                # rho = -H in one step");
+          "  spinmotor flow bumpy_disk.obj --willmore 0.3 --steps 5 --out smooth.obj   # W x ~(1-0.3)^2 per "
+          "step\n"
+          "  spinmotor flow neck.obj --minimal --out minimal.obj --json                # rho = -H in one "
+          "step");
       sub.callback([a, w, m] {
         if (w->count() == 0 && m->count() == 0) throw Error("flow: give --willmore TAU or --minimal");
         run(*a);

@@ -53,7 +53,8 @@ void print_table(const spinmotor::DeformationMetrics& m) {
   row("area_scale", m.area_scale, "total deformed area / total rest area");
   row("edge_distortion", m.edge_distortion, "mean |log(l'/l)|, global scale removed");
   row("edge_distortion_max", m.edge_distortion_max, "");
-  const std::string aligned = std::string("after ") + std::string(spinmotor::option_name(m.alignment)) + " alignment";
+  const std::string aligned =
+      std::string("after ") + std::string(spinmotor::option_name(m.alignment)) + " alignment";
   row("rms", m.rms, ("RMS vertex distance / bounding-box diagonal, " + aligned).c_str());
   row("max", m.max, ("max vertex distance / bounding-box diagonal, " + aligned).c_str());
   row("diagonal", m.diagonal, "rest bounding-box diagonal");

@@ -1,6 +1,6 @@
 // `spinmotor snap REST EDITED --out OUT [--tradeoff t] [--problem standard|generalized]
-// [--align similarity|translation|none] [--smooth-rho N] [--json]`: the nearest spin transformation of an edit
-// (Crane et al. 2011 §7.2, spin/conformal_snap.hpp). EDITED may come from any tool as long as it keeps
+// [--align similarity|translation|none] [--smooth-rho N] [--json]`: the nearest spin transformation of an
+// edit (Crane et al. 2011 §7.2, spin/conformal_snap.hpp). EDITED may come from any tool as long as it keeps
 // the rest mesh's vertex order and faces. The output keeps EDITED's texture coordinates (or REST's if
 // EDITED has none).
 //
@@ -13,12 +13,11 @@
 // --mode pinned (--pin FILE [--keep auto|volume|area|none]; the default mode when --pin is given): the
 // pose-keeping conformal cleanup (spin/pinned_cleanup.hpp, snap_pinned.cpp): the pinned vertices stay
 // exactly where EDITED has them, the rest is made conformal at the rest volume (area if open).
-#include <nlohmann/json.hpp>
-
 #include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
@@ -37,22 +36,26 @@ namespace {
 using namespace spinmotor;
 
 const cli::RegisterCommand reg{
-    "snap", "Snap an edited mesh onto its nearest spin transformation (conformal deformation) of the rest mesh",
+    "snap",
+    "Snap an edited mesh onto its nearest spin transformation (conformal deformation) of the rest mesh",
     [](CLI::App& sub) {
       struct Args {
-        std::string rest, edited, out, problem = "standard", align = "similarity", mode = "free", pin, keep = "auto";
+        std::string rest, edited, out, problem = "standard", align = "similarity", mode = "free", pin,
+                                       keep = "auto";
         double tradeoff = 1.0, area_constraint = 0.0;
         int smooth = 0, steps = 4;
         bool json = false, quiet = false;
       };
       auto a = std::make_shared<Args>();
       sub.add_option("REST", a->rest, "Rest mesh (connected oriented manifold)")->required();
-      sub.add_option("EDITED", a->edited, "Edited mesh: same vertices (same order) and faces as REST")->required();
+      sub.add_option("EDITED", a->edited, "Edited mesh: same vertices (same order) and faces as REST")
+          ->required();
       sub.add_option("--out", a->out, "Output mesh (the snapped positions)")->required();
       sub.add_option("--tradeoff", a->tradeoff, "0 follows the edit, 1 is conformal (Crane et al. Fig. 21)")
           ->check(CLI::Range(0.0, 1.0))
           ->capture_default_str();
-      sub.add_option("--problem", a->problem, "Eigenproblem: standard (eq. 7) or generalized (eq. 6, closed meshes)")
+      sub.add_option("--problem", a->problem,
+                     "Eigenproblem: standard (eq. 7) or generalized (eq. 6, closed meshes)")
           ->check(CLI::IsMember({"standard", "generalized"}))
           ->capture_default_str();
       sub.add_option("--align", a->align, "Placement onto the edit: similarity (Umeyama), translation, none")
@@ -64,45 +67,56 @@ const cli::RegisterCommand reg{
           ->check(CLI::NonNegativeNumber)
           ->capture_default_str();
       CLI::Option* mode_opt =
-          sub.add_option("--mode", a->mode,
-                         "free (or spin): nearest spin transformation (§7.2); shape: extrude toward the edit's curvature "
-                         "(Le Folgoc et al. 2019; keeps more of a large bend, closed meshes); pinned: conformal "
-                         "cleanup keeping the --pin vertices in place (the default when --pin is given)")
+          sub.add_option(
+                 "--mode", a->mode,
+                 "free (or spin): nearest spin transformation (§7.2); shape: extrude toward the edit's "
+                 "curvature "
+                 "(Le Folgoc et al. 2019; keeps more of a large bend, closed meshes); pinned: conformal "
+                 "cleanup keeping the --pin vertices in place (the default when --pin is given)")
               ->check(CLI::IsMember(option_values<SnapMode>()))
               ->capture_default_str();
-      sub.add_option("--pin", a->pin, "--mode pinned: file of 0-based vertex indices kept exactly where EDITED has them "
-                                      "(one per line, '#' comments)");
-      sub.add_option("--keep", a->keep, "--mode pinned: measure kept at its rest value (auto: volume if closed, else area)")
+      sub.add_option("--pin", a->pin,
+                     "--mode pinned: file of 0-based vertex indices kept exactly where EDITED has them "
+                     "(one per line, '#' comments)");
+      sub.add_option("--keep", a->keep,
+                     "--mode pinned: measure kept at its rest value (auto: volume if closed, else area)")
           ->check(CLI::IsMember(option_values<CleanupKeep>()))
           ->capture_default_str();
-      sub.add_option("--steps", a->steps, "--mode shape: extrusion steps")->check(CLI::Range(1, 1000))->capture_default_str();
-      sub.add_option("--area-constraint", a->area_constraint, "--mode shape: area soft constraint epsilon (0 = off)")
+      sub.add_option("--steps", a->steps, "--mode shape: extrusion steps")
+          ->check(CLI::Range(1, 1000))
+          ->capture_default_str();
+      sub.add_option("--area-constraint", a->area_constraint,
+                     "--mode shape: area soft constraint epsilon (0 = off)")
           ->check(CLI::NonNegativeNumber)
           ->capture_default_str();
       sub.add_flag("--json", a->json, "Print sizes, quality and timings as JSON");
       sub.add_flag("-q,--quiet", a->quiet, "Print nothing unless --json");
       sub.footer(
           "Examples:\n"
-          "  spinmotor snap rest.obj posed.obj --out snapped.obj                 # nearest spin transformation\n"
-          "  spinmotor snap rest.obj posed.obj --out half.obj --tradeoff 0.5     # halfway between edit and conformal\n"
-          "  spinmotor snap arm.obj arm-lbs.obj --out arm-clean.obj --smooth-rho 20 --json   # creased skinning edits\n"
-          "  spinmotor snap arm.obj arm-lbs.obj --pin rigid.txt --out arm-clean.obj      # keep the pose: pinned mode");
+          "  spinmotor snap rest.obj posed.obj --out snapped.obj                 # nearest spin "
+          "transformation\n"
+          "  spinmotor snap rest.obj posed.obj --out half.obj --tradeoff 0.5     # halfway between edit and "
+          "conformal\n"
+          "  spinmotor snap arm.obj arm-lbs.obj --out arm-clean.obj --smooth-rho 20 --json   # creased "
+          "skinning edits\n"
+          "  spinmotor snap arm.obj arm-lbs.obj --pin rigid.txt --out arm-clean.obj      # keep the pose: "
+          "pinned mode");
       sub.callback([a, mode_opt] {
         const Mesh rest = read_mesh(a->rest);
         const Mesh edited = read_mesh(a->edited);
         if (rest.V.rows() != edited.V.rows() || rest.F.rows() != edited.F.rows()) {
           std::ostringstream m;
-          m << "snap: " << a->edited << " has " << edited.V.rows() << " vertices and " << edited.F.rows() << " faces, "
-            << a->rest << " has " << rest.V.rows() << " vertices and " << rest.F.rows()
+          m << "snap: " << a->edited << " has " << edited.V.rows() << " vertices and " << edited.F.rows()
+            << " faces, " << a->rest << " has " << rest.V.rows() << " vertices and " << rest.F.rows()
             << " faces (the edit must keep the vertex order and the faces)";
           throw Error(m.str());
         }
         for (Eigen::Index f = 0; f < rest.F.rows(); ++f)
           if (rest.F.row(f) != edited.F.row(f)) {
             std::ostringstream m;
-            m << "snap: face " << f << " of " << a->edited << " is (" << edited.F(f, 0) << ", " << edited.F(f, 1)
-              << ", " << edited.F(f, 2) << "), in " << a->rest << " (" << rest.F(f, 0) << ", " << rest.F(f, 1) << ", "
-              << rest.F(f, 2) << ") (the edit must keep the faces)";
+            m << "snap: face " << f << " of " << a->edited << " is (" << edited.F(f, 0) << ", "
+              << edited.F(f, 1) << ", " << edited.F(f, 2) << "), in " << a->rest << " (" << rest.F(f, 0)
+              << ", " << rest.F(f, 1) << ", " << rest.F(f, 2) << ") (the edit must keep the faces)";
             throw Error(m.str());
           }
         const SnapMode mode =
@@ -111,7 +125,8 @@ const cli::RegisterCommand reg{
           cli::snap_pinned(rest, edited, {a->rest, a->pin, a->out, a->keep, a->json, a->quiet});
           return;
         }
-        if (!a->pin.empty()) throw Error("snap: --pin is used by --mode pinned only (not --mode " + a->mode + ")");
+        if (!a->pin.empty())
+          throw Error("snap: --pin is used by --mode pinned only (not --mode " + a->mode + ")");
         if (mode == SnapMode::Shape) {
           const auto t0 = std::chrono::steady_clock::now();
           CurvatureSpinOptions co;
@@ -121,28 +136,35 @@ const cli::RegisterCommand reg{
           const Similarity T = umeyama_fit(flow.V, edited.V);
           Mesh out = edited.has_uv() ? edited : rest;
           out.V = T.apply(flow.V);
-          const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+          const double ms =
+              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
           const QuasiConformalSummary q0 = quasi_conformal_summary(rest.V, rest.F, edited.V);
           const QuasiConformalSummary q1 = quasi_conformal_summary(rest.V, rest.F, out.V);
           const VertexDistances dist = vertex_distances(edited.V, out.V, Alignment::None);
           write_mesh(a->out, out);
           if (a->json) {
-            std::cout << nlohmann::json{{"mode", "shape"},          {"vertices", rest.V.rows()},
-                                        {"faces", rest.F.rows()},   {"steps", a->steps},
+            std::cout << nlohmann::json{{"mode", "shape"},
+                                        {"vertices", rest.V.rows()},
+                                        {"faces", rest.F.rows()},
+                                        {"steps", a->steps},
                                         {"area_constraint", a->area_constraint},
-                                        {"q_mean_before", q0.q_mean}, {"q_max_before", q0.q_max},
-                                        {"q_mean_after", q1.q_mean},  {"q_max_after", q1.q_max},
-                                        {"rms_edit_to_snap", dist.rms}, {"max_edit_to_snap", dist.max},
-                                        {"closure", flow.closure},  {"total_ms", ms}}
+                                        {"q_mean_before", q0.q_mean},
+                                        {"q_max_before", q0.q_max},
+                                        {"q_mean_after", q1.q_mean},
+                                        {"q_max_after", q1.q_max},
+                                        {"rms_edit_to_snap", dist.rms},
+                                        {"max_edit_to_snap", dist.max},
+                                        {"closure", flow.closure},
+                                        {"total_ms", ms}}
                              .dump(2)
                       << '\n';
           } else if (!a->quiet) {
             std::printf("snap (shape mode, %d extrusion steps): %lld vertices, %lld faces\n", a->steps,
                         static_cast<long long>(rest.V.rows()), static_cast<long long>(rest.F.rows()));
-            std::printf("  Q_mean before %.6f, after %.6f (Q_max %.4g -> %.4g)\n", q0.q_mean, q1.q_mean, q0.q_max,
-                        q1.q_max);
-            std::printf("  RMS distance edit-snap %.4g of the bounding-box diagonal (max %.4g); %.0f ms\n", dist.rms,
-                        dist.max, ms);
+            std::printf("  Q_mean before %.6f, after %.6f (Q_max %.4g -> %.4g)\n", q0.q_mean, q1.q_mean,
+                        q0.q_max, q1.q_max);
+            std::printf("  RMS distance edit-snap %.4g of the bounding-box diagonal (max %.4g); %.0f ms\n",
+                        dist.rms, dist.max, ms);
             std::printf("  wrote %s\n", a->out.c_str());
           }
           return;
@@ -189,12 +211,14 @@ const cli::RegisterCommand reg{
           std::cout << j.dump(2) << '\n';
         } else if (!a->quiet) {
           std::printf("snap: %lld vertices, %lld faces, %s problem, tradeoff %g, %s alignment\n",
-                      static_cast<long long>(rest.V.rows()), static_cast<long long>(rest.F.rows()), a->problem.c_str(),
-                      a->tradeoff, a->align.c_str());
-          std::printf("  Q_mean before %.6f, after %.6f (Q_max %.4g -> %.4g)\n", q0.q_mean, q1.q_mean, q0.q_max, q1.q_max);
-          std::printf("  RMS distance edit-snap %.4g of the bounding-box diagonal (max %.4g)\n", dist.rms, dist.max);
-          std::printf("  times (ms): bind %.1f, similarity fit %.1f, eigen %.1f, poisson %.1f\n", cs.bind_ms() + t.bind,
-                      t.similarity_fit, t.eigen, t.poisson);
+                      static_cast<long long>(rest.V.rows()), static_cast<long long>(rest.F.rows()),
+                      a->problem.c_str(), a->tradeoff, a->align.c_str());
+          std::printf("  Q_mean before %.6f, after %.6f (Q_max %.4g -> %.4g)\n", q0.q_mean, q1.q_mean,
+                      q0.q_max, q1.q_max);
+          std::printf("  RMS distance edit-snap %.4g of the bounding-box diagonal (max %.4g)\n", dist.rms,
+                      dist.max);
+          std::printf("  times (ms): bind %.1f, similarity fit %.1f, eigen %.1f, poisson %.1f\n",
+                      cs.bind_ms() + t.bind, t.similarity_fit, t.eigen, t.poisson);
           std::printf("  wrote %s\n", a->out.c_str());
         }
       });

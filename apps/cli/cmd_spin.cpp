@@ -1,10 +1,9 @@
-// `spinmotor spin MESH (--rho-image IMG | --rho-faces FILE | --rho-vertices FILE | --rho-expr E) --out OUT [--json]`:
-// the spin transformation of Crane, Pinkall & Schröder 2011 for a painted curvature change ρ.
-#include <nlohmann/json.hpp>
-
+// `spinmotor spin MESH (--rho-image IMG | --rho-faces FILE | --rho-vertices FILE | --rho-expr E) --out OUT
+// [--json]`: the spin transformation of Crane, Pinkall & Schröder 2011 for a painted curvature change ρ.
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "command.hpp"
@@ -23,9 +22,12 @@ using namespace spinmotor;
 
 const char* problem_name(SpinEigenProblem p) {
   switch (p) {
-    case SpinEigenProblem::Standard: return "standard";
-    case SpinEigenProblem::Generalized: return "generalized";
-    case SpinEigenProblem::Unweighted: return "unweighted";
+    case SpinEigenProblem::Standard:
+      return "standard";
+    case SpinEigenProblem::Generalized:
+      return "generalized";
+    case SpinEigenProblem::Unweighted:
+      return "unweighted";
   }
   return "?";
 }
@@ -41,39 +43,47 @@ const cli::RegisterCommand reg{
         bool json = false, spinxform = false, real_form = false, quiet = false, keep_boundary = false;
       };
       auto a = std::make_shared<Args>();
-      sub.add_option("MESH", a->mesh, "Input mesh (OBJ, OFF, PLY, STL); connected oriented manifold")->required();
+      sub.add_option("MESH", a->mesh, "Input mesh (OBJ, OFF, PLY, STL); connected oriented manifold")
+          ->required();
       auto* img = sub.add_option("--rho-image", a->image,
                                  "Grayscale TGA/PNG sampled through the mesh's texture coordinates: "
                                  "rho = (2 g/255 - 1) * rho-scale per face (SpinXForm); the mesh is first "
                                  "centred and scaled to max |v| = 1");
       auto* fac = sub.add_option("--rho-faces", a->faces, "Text file with one rho value per face");
-      auto* ver = sub.add_option("--rho-vertices", a->vertices, "Text file with one rho value per vertex (averaged to faces)");
-      auto* exp = sub.add_option("--rho-expr", a->expr,
-                                 "rho as an expression of the position (x, y, z, r), e.g. '5*sin(3*x)*cos(2*y)', "
-                                 "evaluated at face barycentres");
+      auto* ver = sub.add_option("--rho-vertices", a->vertices,
+                                 "Text file with one rho value per vertex (averaged to faces)");
+      auto* exp =
+          sub.add_option("--rho-expr", a->expr,
+                         "rho as an expression of the position (x, y, z, r), e.g. '5*sin(3*x)*cos(2*y)', "
+                         "evaluated at face barycentres");
       img->excludes(fac)->excludes(ver)->excludes(exp);
       fac->excludes(ver)->excludes(exp);
       ver->excludes(exp);
       sub.add_option("--out", a->out, "Output mesh (texture coordinates are kept)")->required();
-      sub.add_flag("--keep-boundary-tangents", a->keep_boundary,
-                   "On a mesh with boundary, keep each boundary vertex's tangent direction (§5.7). With free "
-                   "boundaries the eigenproblem has many near-zero modes on some shapes (an open tube: Q_mean "
-                   "above 2 for any bump); the viewer's paint tool always keeps them");
+      sub.add_flag(
+          "--keep-boundary-tangents", a->keep_boundary,
+          "On a mesh with boundary, keep each boundary vertex's tangent direction (§5.7). With free "
+          "boundaries the eigenproblem has many near-zero modes on some shapes (an open tube: Q_mean "
+          "above 2 for any bump); the viewer's paint tool always keeps them");
       sub.add_flag("--json", a->json, "Print sizes, timings and quality as JSON");
       sub.add_flag("-q,--quiet", a->quiet, "Print nothing unless --json");
       sub.footer(
           "Examples:\n"
           "  spinmotor spin sphere.obj --rho-image bumpy.tga --out bumpy.obj\n"
           "  spinmotor spin capsule.obj --rho-expr \"0.5*exp(-20*(z-1)^2)\" --out bulge.obj --json\n"
-          "  spinmotor spin sphere.obj --rho-faces rho.txt --out out.obj --spinxform   # the reference code's settings");
+          "  spinmotor spin sphere.obj --rho-faces rho.txt --out out.obj --spinxform   # the reference "
+          "code's settings");
       sub.add_option("--rho-scale", a->rho_scale, "Image mode: rho of a white pixel")->capture_default_str();
-      sub.add_flag("--spinxform", a->spinxform,
-                   "Reference-code settings: unweighted problem, exactly 3 inverse iterations, output centred "
-                   "with max |v| = 1");
-      sub.add_option("--problem", a->problem, "Eigenproblem: standard (eq. 7), generalized (eq. 6), unweighted")
+      sub.add_flag(
+          "--spinxform", a->spinxform,
+          "Reference-code settings: unweighted problem, exactly 3 inverse iterations, output centred "
+          "with max |v| = 1");
+      sub.add_option("--problem", a->problem,
+                     "Eigenproblem: standard (eq. 7), generalized (eq. 6), unweighted")
           ->check(CLI::IsMember({"standard", "generalized", "unweighted"}))
           ->capture_default_str();
-      sub.add_option("--tolerance", a->tolerance, "Eigen-residual at which inverse iteration stops")->capture_default_str();
+      sub.add_option("--tolerance", a->tolerance, "Eigen-residual at which inverse iteration stops")
+          ->capture_default_str();
       sub.add_option("--max-iterations", a->iterations, "Maximum inverse iterations")->capture_default_str();
       sub.add_option("--scale", a->scale, "Output normalisation: area (keep area), unit (max |v| = 1), none")
           ->check(CLI::IsMember({"area", "unit", "none"}))
@@ -81,19 +91,22 @@ const cli::RegisterCommand reg{
       sub.add_option("--ordering", a->ordering, "Fill-reducing ordering of the vertex graph")
           ->check(CLI::IsMember({"amd", "metis", "natural"}))
           ->capture_default_str();
-      sub.add_flag("--real-form", a->real_form, "Factor the real 4n x 4n matrix instead of the complex 2n x 2n one");
+      sub.add_flag("--real-form", a->real_form,
+                   "Factor the real 4n x 4n matrix instead of the complex 2n x 2n one");
       sub.callback([a] {
         if (a->image.empty() && a->faces.empty() && a->vertices.empty() && a->expr.empty())
           throw Error("spin: give one of --rho-image, --rho-faces, --rho-vertices, --rho-expr");
         Mesh mesh = read_mesh(a->mesh);
         SpinTransformOptions o = a->spinxform ? SpinTransformOptions::spinxform() : SpinTransformOptions{};
         if (!a->spinxform) {
-          o.problem = a->problem == "generalized" ? SpinEigenProblem::Generalized
+          o.problem = a->problem == "generalized"  ? SpinEigenProblem::Generalized
                       : a->problem == "unweighted" ? SpinEigenProblem::Unweighted
                                                    : SpinEigenProblem::Standard;
           o.tolerance = a->tolerance;
           o.iterations = a->iterations;
-          o.scale = a->scale == "unit" ? SpinScale::UnitMaxNorm : a->scale == "none" ? SpinScale::None : SpinScale::KeepArea;
+          o.scale = a->scale == "unit"   ? SpinScale::UnitMaxNorm
+                    : a->scale == "none" ? SpinScale::None
+                                         : SpinScale::KeepArea;
         }
         o.ordering = a->ordering == "amd"       ? VertexOrdering::AMD
                      : a->ordering == "natural" ? VertexOrdering::Natural
@@ -113,7 +126,9 @@ const cli::RegisterCommand reg{
           if (mesh.V.rows() == 0) throw Error("spin: " + a->mesh + " has no vertices");
           centre = mesh.V.colwise().mean();
           mesh.V.rowwise() -= centre;
-          radius = std::sqrt(mesh.V.rowwise().squaredNorm().maxCoeff());  // (a vectorised rowwise norm trips GCC 12 -Wuninitialized in its AVX-512 rsqrt intrinsic)
+          radius = std::sqrt(
+              mesh.V.rowwise().squaredNorm().maxCoeff());  // (a vectorised rowwise norm trips GCC 12
+                                                           // -Wuninitialized in its AVX-512 rsqrt intrinsic)
           if (!(radius > 0)) throw Error("spin: all vertices of " + a->mesh + " coincide");
           mesh.V /= radius;
           rho = face_rho_from_image(mesh, read_grayscale_image(a->image), a->rho_scale);
@@ -165,10 +180,10 @@ const cli::RegisterCommand reg{
         } else if (!a->quiet) {
           std::printf("spin: %lld vertices, %lld faces, %s problem\n", static_cast<long long>(mesh.V.rows()),
                       static_cast<long long>(mesh.F.rows()), problem_name(o.problem));
-          std::printf("  eigenvalue %.10g after %d inverse iterations (residual %.3g)\n", r.eigenvalue, r.iterations,
-                      r.residual);
-          std::printf("  times (ms): bind %.1f, assembly %.1f, factor %.1f, eigen %.1f, poisson %.1f\n", t.bind,
-                      t.assembly, t.factor, t.eigen, t.poisson);
+          std::printf("  eigenvalue %.10g after %d inverse iterations (residual %.3g)\n", r.eigenvalue,
+                      r.iterations, r.residual);
+          std::printf("  times (ms): bind %.1f, assembly %.1f, factor %.1f, eigen %.1f, poisson %.1f\n",
+                      t.bind, t.assembly, t.factor, t.eigen, t.poisson);
           std::printf("  Q_mean %.6f, Q_max %.6f\n", q.q_mean, q.q_max);
           std::printf("  wrote %s\n", a->out.c_str());
         }

@@ -3,7 +3,6 @@
 // registers it with a static `RegisterCommand`; main.cpp only parses and maps errors to exit codes:
 //   0 ok, 2 bad input (spinmotor::Error::Kind::BadInput, or a usage error), 3 numerical failure.
 #include <CLI/CLI.hpp>
-
 #include <functional>
 #include <string>
 #include <vector>

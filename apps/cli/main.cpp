@@ -1,10 +1,9 @@
 // spinmotor: the command-line tool. See `spinmotor --help` and README.md.
-#include "command.hpp"
-
-#include "spinmotor/core/error.hpp"
-
 #include <algorithm>
 #include <iostream>
+
+#include "command.hpp"
+#include "spinmotor/core/error.hpp"
 
 namespace spinmotor::cli {
 std::vector<Command>& commands() {

@@ -9,7 +9,7 @@
 namespace spinmotor::cli {
 
 class SummaryTable {
-public:
+ public:
   explicit SummaryTable(std::vector<std::string> header) : header_(std::move(header)) {}
 
   void add_row(std::vector<std::string> row) {
@@ -28,8 +28,10 @@ public:
         const size_t pad = width[c] - r[c].size();
         const bool text = c == 0 || c + 1 == r.size();  // first and last columns are labels
         if (c > 0) out << "  ";
-        if (text) out << r[c] << (c + 1 == r.size() ? std::string() : std::string(pad, ' '));
-        else out << std::string(pad, ' ') << r[c];
+        if (text)
+          out << r[c] << (c + 1 == r.size() ? std::string() : std::string(pad, ' '));
+        else
+          out << std::string(pad, ' ') << r[c];
       }
       out << '\n';
     };
@@ -40,7 +42,7 @@ public:
     for (const auto& r : rows_) line(r);
   }
 
-private:
+ private:
   std::vector<std::string> header_;
   std::vector<std::vector<std::string>> rows_;
 };

@@ -5,14 +5,14 @@
 #include <cmath>
 #include <sstream>
 
-#include "spinmotor/deform/arap_rotation.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/parallel.hpp"
+#include "spinmotor/core/stopwatch.hpp"
+#include "spinmotor/deform/arap_rotation.hpp"
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
 #include "spinmotor/mesh/topology.hpp"
 #include "spinmotor/mesh/validate.hpp"  // require(): names a degenerate face
-#include "spinmotor/core/stopwatch.hpp"
-#include "spinmotor/core/parallel.hpp"
 
 namespace spinmotor {
 
@@ -32,7 +32,8 @@ ga::Mot unit_motor(const ga::Mot& m, std::size_t j, const std::string& handle) {
     const double alpha = nn.get<ga::blade::s>(), beta = nn.get<ga::blade::e123ni>();
     if (std::abs(alpha - 1.0) <= 1e-6 && std::abs(beta) <= 1e-6) return ga::normalize(m);
   }
-  return checked_unit_motor(m, std::string(kWho) + ": motor " + std::to_string(j) + " (handle '" + handle + "')");
+  return checked_unit_motor(
+      m, std::string(kWho) + ": motor " + std::to_string(j) + " (handle '" + handle + "')");
 }
 
 }  // namespace
@@ -45,9 +46,11 @@ ArapDeformer ArapDeformer::bind(const Mesh& rest, std::span<const Handle> handle
   if (options.iterations < 0)
     throw Error(std::string(kWho) + ": iterations must be >= 0, got " + std::to_string(options.iterations));
   if (!(options.tolerance >= 0.0) || !std::isfinite(options.tolerance))
-    throw Error(std::string(kWho) + ": tolerance must be finite and >= 0, got " + std::to_string(options.tolerance));
+    throw Error(std::string(kWho) + ": tolerance must be finite and >= 0, got " +
+                std::to_string(options.tolerance));
   if (handles.empty())
-    throw Error(std::string(kWho) + ": needs at least one handle (ARAP is determined only up to a rigid motion)");
+    throw Error(std::string(kWho) +
+                ": needs at least one handle (ARAP is determined only up to a rigid motion)");
   check_handles(handles, rest.V.rows(), kWho);
 
   ArapDeformer d;
@@ -252,8 +255,9 @@ void ArapDeformer::bind_handles(std::span<const Handle> handles) {
   if (!missing.empty()) {
     const int c = missing[0];
     std::ostringstream s;
-    s << kWho << ": connected component " << c << " of " << count << " (" << size[c] << " vertices, e.g. vertex "
-      << first[c] << ") has no handle vertex, so its position is undetermined: add a handle on it";
+    s << kWho << ": connected component " << c << " of " << count << " (" << size[c]
+      << " vertices, e.g. vertex " << first[c]
+      << ") has no handle vertex, so its position is undetermined: add a handle on it";
     if (missing.size() > 1) {
       s << " (" << missing.size() << " components have none:";
       for (std::size_t k = 0; k < std::min<std::size_t>(missing.size(), 8); ++k)
@@ -267,7 +271,8 @@ void ArapDeformer::bind_handles(std::span<const Handle> handles) {
   const auto t_factor = Clock::now();
   factorize(cons);
   constrained_ = Eigen::Map<const Eigen::VectorXi>(cons.data(), static_cast<Eigen::Index>(cons.size()));
-  constrained_handle_ = Eigen::Map<Eigen::VectorXi>(cons_handle.data(), static_cast<Eigen::Index>(cons_handle.size()));
+  constrained_handle_ =
+      Eigen::Map<Eigen::VectorXi>(cons_handle.data(), static_cast<Eigen::Index>(cons_handle.size()));
   handle_sets_.clear();
   handle_names_.clear();
   for (const Handle& h : handles) {
@@ -285,8 +290,9 @@ namespace {
 /// splits along the longest bounding-box axis; the vertices of the half with the shorter boundary
 /// that touch the other half form the separator, numbered after both halves. O(n log n). Appends the
 /// ordering to `order`; `label` (size n, 0 on entry for the nodes) is scratch.
-void nested_dissection(const ArapDeformer::RowMatrix3& P, const std::vector<int>& off, const std::vector<int>& nbr,
-                       std::vector<int>& nodes, std::vector<int>& label, int& next_label, std::vector<int>& order) {
+void nested_dissection(const ArapDeformer::RowMatrix3& P, const std::vector<int>& off,
+                       const std::vector<int>& nbr, std::vector<int>& nodes, std::vector<int>& label,
+                       int& next_label, std::vector<int>& order) {
   constexpr std::size_t kLeaf = 32;
   if (nodes.size() <= kLeaf) {
     order.insert(order.end(), nodes.begin(), nodes.end());
@@ -384,8 +390,9 @@ void ArapDeformer::factorize(const std::vector<int>& cons) {
 
   // Fill-reducing ordering: AMD on L_FF, or the nested dissection above as is; with Auto both are
   // analysed (symbolic only, cheap) and the one with fewer factorization flops is factorized.
-  const bool supernodal = options_.factorization == Options::Factorization::Supernodal ||
-                          (options_.factorization == Options::Factorization::Auto && nf >= Options::kSupernodalFrom);
+  const bool supernodal =
+      options_.factorization == Options::Factorization::Supernodal ||
+      (options_.factorization == Options::Factorization::Auto && nf >= Options::kSupernodalFrom);
   const auto make = [&](CholeskySolver::Ordering o) { return CholeskySolver({o, supernodal}); };
   try {
     if (options_.ordering == Options::Ordering::AMD) {
@@ -406,8 +413,10 @@ void ArapDeformer::factorize(const std::vector<int>& cons) {
     }
     chol_.factorize(A);
   } catch (const Error& e) {
-    throw Error(std::string(kWho) + ": factorizing the free block of the Laplacian failed (its row r is vertex "
-                                    "free_order()[r]): " + e.what(),
+    throw Error(std::string(kWho) +
+                    ": factorizing the free block of the Laplacian failed (its row r is vertex "
+                    "free_order()[r]): " +
+                    e.what(),
                 e.kind());
   }
   bind_report_.factor_nonzeros = chol_.factor_nonzeros();
@@ -433,7 +442,8 @@ void ArapDeformer::bind_harmonic() {
     // partition of unity, their positions are fixed anyway), one solve with k right-hand sides.
     const Eigen::Index k = static_cast<Eigen::Index>(handle_sets_.size());
     Eigen::MatrixXd lambda = Eigen::MatrixXd::Zero(constrained_.size(), k);
-    for (Eigen::Index r = 0; r < constrained_.size(); ++r) lambda(r, std::max(constrained_handle_[r], 0)) = 1.0;
+    for (Eigen::Index r = 0; r < constrained_.size(); ++r)
+      lambda(r, std::max(constrained_handle_[r], 0)) = 1.0;
     harmonic_ = MotorBlendField::bind(Eigen::MatrixXd(P_), MotorBlendField::Weights(solve_dirichlet(lambda)),
                                       ga::Blend::Log);
     has_harmonic_ = true;
@@ -443,14 +453,16 @@ void ArapDeformer::bind_harmonic() {
 
 bool ArapDeformer::set_handles(std::span<const Handle> handles) {
   if (handles.empty())
-    throw Error(std::string(kWho) + ": needs at least one handle (ARAP is determined only up to a rigid motion)");
+    throw Error(std::string(kWho) +
+                ": needs at least one handle (ARAP is determined only up to a rigid motion)");
   check_handles(handles, P_.rows(), kWho);
   // Same union of constrained vertices (handles + unreferenced) → keep the factorization.
   std::vector<int> now(constrained_.data(), constrained_.data() + constrained_.size());
   std::vector<int> next;
   std::vector<char> in_handle(P_.rows(), 0);
   for (const Handle& h : handles)
-    for (Eigen::Index k = 0; k < h.vertices.size(); ++k) next.push_back(h.vertices[k]), in_handle[h.vertices[k]] = 1;
+    for (Eigen::Index k = 0; k < h.vertices.size(); ++k)
+      next.push_back(h.vertices[k]), in_handle[h.vertices[k]] = 1;
   for (Eigen::Index k = 0; k < unreferenced_.size(); ++k)
     if (!in_handle[unreferenced_[k]]) next.push_back(unreferenced_[k]);
   std::sort(now.begin(), now.end());
@@ -461,7 +473,8 @@ bool ArapDeformer::set_handles(std::span<const Handle> handles) {
   }
   std::vector<int> handle_of(P_.rows(), -1);
   for (std::size_t h = 0; h < handles.size(); ++h)
-    for (Eigen::Index k = 0; k < handles[h].vertices.size(); ++k) handle_of[handles[h].vertices[k]] = static_cast<int>(h);
+    for (Eigen::Index k = 0; k < handles[h].vertices.size(); ++k)
+      handle_of[handles[h].vertices[k]] = static_cast<int>(h);
   for (Eigen::Index r = 0; r < constrained_.size(); ++r) constrained_handle_[r] = handle_of[constrained_[r]];
   handle_sets_.clear();
   handle_names_.clear();
@@ -492,10 +505,10 @@ double ArapDeformer::cell_energy_direct(Eigen::Index i, const Eigen::Matrix3d& R
 namespace {
 
 /// S_i = Σ_k κ_k (x'_j − x'_i)ᵀ and a'_i = Σ_k w_k |x'_j − x'_i|² + Σ_rims c |x'_m − x'_l|².
-[[gnu::always_inline]] inline void cell_covariance(Eigen::Index i, const int* off, const int* nbr, const double* w,
-                                                   const double* kappa, const int* rim_off, const int* rim_l,
-                                                   const int* rim_m, const double* rim_c, const double* X,
-                                                   Eigen::Matrix3d& S, double& ap) {
+[[gnu::always_inline]] inline void cell_covariance(Eigen::Index i, const int* off, const int* nbr,
+                                                   const double* w, const double* kappa, const int* rim_off,
+                                                   const int* rim_l, const int* rim_m, const double* rim_c,
+                                                   const double* X, Eigen::Matrix3d& S, double& ap) {
   const double x0 = X[3 * i], x1 = X[3 * i + 1], x2 = X[3 * i + 2];
   double s00 = 0, s01 = 0, s02 = 0, s10 = 0, s11 = 0, s12 = 0, s20 = 0, s21 = 0, s22 = 0, q = 0;
   for (int k = off[i]; k < off[i + 1]; ++k) {
@@ -529,8 +542,8 @@ double ArapDeformer::local_step() {
   for (Eigen::Index i = 0; i < n; ++i) {
     Eigen::Matrix3d S;
     double ap;
-    cell_covariance(i, off_.data(), nbr_.data(), w_.data(), kappa_.data(), rim_off, rim_l_.data(), rim_m_.data(),
-                    rim_c_.data(), X_.data(), S, ap);
+    cell_covariance(i, off_.data(), nbr_.data(), w_.data(), kappa_.data(), rim_off, rim_l_.data(),
+                    rim_m_.data(), rim_c_.data(), X_.data(), S, ap);
     RotationInfo info;
     const ga::Rot q = best_rotation(S, rot_[i], &info);  // §VII: Horn's quaternion, largest eigenvector
     jacobi += !info.fast;
@@ -639,7 +652,8 @@ void ArapDeformer::pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out)
 double ArapDeformer::energy(const Eigen::MatrixXd& V) const {
   if (V.rows() != P_.rows() || V.cols() != 3) {
     std::ostringstream s;
-    s << kWho << ": energy() got " << V.rows() << "x" << V.cols() << " positions for " << P_.rows() << " vertices";
+    s << kWho << ": energy() got " << V.rows() << "x" << V.cols() << " positions for " << P_.rows()
+      << " vertices";
     throw Error(s.str());
   }
   const RowMatrix3 X = V;
@@ -650,8 +664,8 @@ double ArapDeformer::energy(const Eigen::MatrixXd& V) const {
   for (Eigen::Index i = 0; i < n; ++i) {
     Eigen::Matrix3d S;
     double ap;
-    cell_covariance(i, off_.data(), nbr_.data(), w_.data(), kappa_.data(), rim_off, rim_l_.data(), rim_m_.data(),
-                    rim_c_.data(), X.data(), S, ap);
+    cell_covariance(i, off_.data(), nbr_.data(), w_.data(), kappa_.data(), rim_off, rim_l_.data(),
+                    rim_m_.data(), rim_c_.data(), X.data(), S, ap);
     total += cell_energy_direct(i, rotation_matrix(best_rotation(S)), X);
   }
   return total;

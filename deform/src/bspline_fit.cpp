@@ -5,9 +5,9 @@
 #include <cmath>
 #include <sstream>
 
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/deform/motor_blend_field.hpp"
 #include "spinmotor/deform/spline_basis.hpp"
-#include "spinmotor/core/error.hpp"
 
 namespace spinmotor {
 

@@ -1,19 +1,18 @@
 #include "spinmotor/deform/cage_coordinates.hpp"
 
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
 #include <vector>
 
-#include <Eigen/Geometry>
-#include <Eigen/LU>
-#include <Eigen/SparseCore>
-
-#include "spinmotor/deform/deformer.hpp"
 #include "spinmotor/core/error.hpp"
-#include "spinmotor/linalg/cholesky_solver.hpp"
 #include "spinmotor/core/parallel.hpp"
+#include "spinmotor/deform/deformer.hpp"
+#include "spinmotor/linalg/cholesky_solver.hpp"
 
 namespace spinmotor {
 
@@ -24,7 +23,8 @@ using Eigen::Vector3d;
 
 /// Closest point of triangle abc to p as barycentric coordinates (Ericson, Real-Time Collision
 /// Detection §5.1.5); returns the squared distance.
-double closest_on_triangle(const Vector3d& p, const Vector3d& a, const Vector3d& b, const Vector3d& c, Vector3d& bary) {
+double closest_on_triangle(const Vector3d& p, const Vector3d& a, const Vector3d& b, const Vector3d& c,
+                           Vector3d& bary) {
   const Vector3d ab = b - a, ac = c - a, ap = p - a;
   const double d1 = ab.dot(ap), d2 = ac.dot(ap);
   if (d1 <= 0 && d2 <= 0) {
@@ -66,7 +66,9 @@ double solid_angle(const Vector3d& x, const Vector3d& A, const Vector3d& B, cons
   return 2.0 * std::atan2(num, den);
 }
 
-double cage_scale(const Eigen::MatrixXd& C) { return (C.colwise().maxCoeff() - C.colwise().minCoeff()).maxCoeff(); }
+double cage_scale(const Eigen::MatrixXd& C) {
+  return (C.colwise().maxCoeff() - C.colwise().minCoeff()).maxCoeff();
+}
 
 /// Throws unless every point is inside the cage or on it (winding number ≥ ½, or within 1e-12 × scale
 /// of a face), naming the first that is not.
@@ -127,16 +129,19 @@ void check_cage(const Eigen::MatrixXd& C, const Eigen::MatrixXi& CF) {
   double vol = 0.0;
   for (Index f = 0; f < CF.rows(); ++f)
     vol += Vector3d(C.row(CF(f, 0))).dot(Vector3d(C.row(CF(f, 1))).cross(Vector3d(C.row(CF(f, 2)))));
-  if (!(vol > 0.0)) throw Error("cage: the faces are oriented inwards (signed volume " + std::to_string(vol / 6) + " ≤ 0)");
+  if (!(vol > 0.0))
+    throw Error("cage: the faces are oriented inwards (signed volume " + std::to_string(vol / 6) + " ≤ 0)");
 }
 
 double cage_winding_number(const Eigen::MatrixXd& C, const Eigen::MatrixXi& CF, const Eigen::Vector3d& x) {
   double w = 0.0;
-  for (Index f = 0; f < CF.rows(); ++f) w += solid_angle(x, C.row(CF(f, 0)), C.row(CF(f, 1)), C.row(CF(f, 2)));
+  for (Index f = 0; f < CF.rows(); ++f)
+    w += solid_angle(x, C.row(CF(f, 0)), C.row(CF(f, 1)), C.row(CF(f, 2)));
   return w / (4.0 * M_PI);
 }
 
-Eigen::MatrixXd mean_value_coordinates(const Eigen::MatrixXd& C, const Eigen::MatrixXi& CF, const Eigen::MatrixXd& X) {
+Eigen::MatrixXd mean_value_coordinates(const Eigen::MatrixXd& C, const Eigen::MatrixXi& CF,
+                                       const Eigen::MatrixXd& X) {
   check_cage(C, CF);
   const Index n = X.rows(), k = C.rows();
   if (X.cols() != 3) throw Error("mean_value_coordinates: points must be n×3");
@@ -180,7 +185,9 @@ Eigen::MatrixXd mean_value_coordinates(const Eigen::MatrixXd& C, const Eigen::Ma
       const double sign = U.determinant() < 0 ? -1.0 : 1.0;
       bool coplanar = false;
       for (int t = 0; t < 3; ++t) {
-        c[t] = 2.0 * std::sin(h) * std::sin(h - th[t]) / (std::sin(th[(t + 1) % 3]) * std::sin(th[(t + 2) % 3])) - 1.0;
+        c[t] = 2.0 * std::sin(h) * std::sin(h - th[t]) /
+                   (std::sin(th[(t + 1) % 3]) * std::sin(th[(t + 2) % 3])) -
+               1.0;
         s[t] = sign * std::sqrt(std::max(0.0, 1.0 - c[t] * c[t]));
         coplanar = coplanar || std::abs(s[t]) <= 1e-12;
       }
@@ -192,16 +199,20 @@ Eigen::MatrixXd mean_value_coordinates(const Eigen::MatrixXd& C, const Eigen::Ma
     }
     W.row(i) = w / w.sum();
   }
-  if (!W.allFinite()) throw numerical_error("mean_value_coordinates: non-finite coordinates (degenerate cage?)");
+  if (!W.allFinite())
+    throw numerical_error("mean_value_coordinates: non-finite coordinates (degenerate cage?)");
   return W;
 }
 
-double harmonic_interpolation_bound(const Eigen::MatrixXd& C, int grid) { return std::sqrt(3.0) * cage_scale(C) / grid; }
+double harmonic_interpolation_bound(const Eigen::MatrixXd& C, int grid) {
+  return std::sqrt(3.0) * cage_scale(C) / grid;
+}
 
-Eigen::MatrixXd harmonic_cage_coordinates(const Eigen::MatrixXd& C, const Eigen::MatrixXi& CF, const Eigen::MatrixXd& X,
-                                          int grid) {
+Eigen::MatrixXd harmonic_cage_coordinates(const Eigen::MatrixXd& C, const Eigen::MatrixXi& CF,
+                                          const Eigen::MatrixXd& X, int grid) {
   check_cage(C, CF);
-  if (grid < 4 || grid > 512) throw Error("harmonic_cage_coordinates: grid " + std::to_string(grid) + " (must be in [4, 512])");
+  if (grid < 4 || grid > 512)
+    throw Error("harmonic_cage_coordinates: grid " + std::to_string(grid) + " (must be in [4, 512])");
   const Index n = X.rows(), k = C.rows();
   if (X.cols() != 3) throw Error("harmonic_cage_coordinates: points must be n×3");
   require_inside(C, CF, X);
@@ -224,7 +235,8 @@ Eigen::MatrixXd harmonic_cage_coordinates(const Eigen::MatrixXd& C, const Eigen:
   std::vector<Vector3d> bary(nodes);
   for (Index f = 0; f < CF.rows(); ++f) {
     const Vector3d a = C.row(CF(f, 0)), b = C.row(CF(f, 1)), c = C.row(CF(f, 2));
-    const Vector3d fmin = a.cwiseMin(b).cwiseMin(c) - Vector3d::Constant(band), fmax = a.cwiseMax(b).cwiseMax(c) + Vector3d::Constant(band);
+    const Vector3d fmin = a.cwiseMin(b).cwiseMin(c) - Vector3d::Constant(band),
+                   fmax = a.cwiseMax(b).cwiseMax(c) + Vector3d::Constant(band);
     Eigen::Array3i i0, i1;
     for (int t = 0; t < 3; ++t) {
       i0[t] = std::max(0, static_cast<int>(std::ceil((fmin[t] - origin[t]) / h)));
@@ -257,8 +269,8 @@ Eigen::MatrixXd harmonic_cage_coordinates(const Eigen::MatrixXd& C, const Eigen:
   while (!stack.empty()) {
     const Index v = stack.back();
     stack.pop_back();
-    const int x = static_cast<int>(v / (static_cast<Index>(N[1]) * N[2])), y = static_cast<int>((v / N[2]) % N[1]),
-              z = static_cast<int>(v % N[2]);
+    const int x = static_cast<int>(v / (static_cast<Index>(N[1]) * N[2])),
+              y = static_cast<int>((v / N[2]) % N[1]), z = static_cast<int>(v % N[2]);
     for (const auto& d : dx) {
       const int X2 = x + d[0], Y2 = y + d[1], Z2 = z + d[2];
       if (X2 >= 0 && Y2 >= 0 && Z2 >= 0 && X2 < N[0] && Y2 < N[1] && Z2 < N[2]) push(id(X2, Y2, Z2));
@@ -268,7 +280,9 @@ Eigen::MatrixXd harmonic_cage_coordinates(const Eigen::MatrixXd& C, const Eigen:
   Index m = 0;
   for (Index v = 0; v < nodes; ++v)
     if (cls[v] == kUnknown) unknown[v] = m++;
-  if (m == 0) throw Error("harmonic_cage_coordinates: no grid node inside the cage (grid " + std::to_string(grid) + " too coarse)");
+  if (m == 0)
+    throw Error("harmonic_cage_coordinates: no grid node inside the cage (grid " + std::to_string(grid) +
+                " too coarse)");
 
   // The 7-point Laplacian on the interior nodes (rows scaled by h²), boundary neighbours to the rhs.
   std::vector<Eigen::Triplet<double>> t;
@@ -304,7 +318,9 @@ Eigen::MatrixXd harmonic_cage_coordinates(const Eigen::MatrixXd& C, const Eigen:
   // Trilinear interpolation at the points.
   Eigen::MatrixXd W = Eigen::MatrixXd::Zero(n, k);
   bool missing = false;
-#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend)) reduction(|| : missing)
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend)) \
+    reduction(||                                                                         \
+              : missing)
   for (Index i = 0; i < n; ++i) {
     const Vector3d s = (X.row(i).transpose() - origin) / h;
     int c0[3];

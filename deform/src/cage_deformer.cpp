@@ -2,8 +2,8 @@
 
 #include <string>
 
-#include "spinmotor/deform/cage_coordinates.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/deform/cage_coordinates.hpp"
 
 namespace spinmotor {
 
@@ -19,12 +19,15 @@ CageDeformer CageDeformer::bind(const Mesh& rest, const Mesh& cage, const Option
     d.W_ = W;
   } catch (const Error& e) {
     std::string what = e.what();
-    if (what.rfind("point ", 0) == 0) what = "mesh vertex " + what.substr(6);  // the points are the mesh vertices
+    if (what.rfind("point ", 0) == 0)
+      what = "mesh vertex " + what.substr(6);  // the points are the mesh vertices
     throw Error("CageDeformer: " + what, e.kind());
   }
-  d.bound_ = options.coordinates == Coordinates::Harmonic ? harmonic_interpolation_bound(cage.V, options.grid) : 0.0;
+  d.bound_ =
+      options.coordinates == Coordinates::Harmonic ? harmonic_interpolation_bound(cage.V, options.grid) : 0.0;
   if (options.mode == Mode::Motor) d.field_ = MotorBlendField::bind(rest.V, d.W_, options.blend);
-  for (Eigen::Index k = 0; k < d.C_.rows(); ++k) d.controls_.push_back({"cage[" + std::to_string(k) + "]", d.C_.row(k).transpose()});
+  for (Eigen::Index k = 0; k < d.C_.rows(); ++k)
+    d.controls_.push_back({"cage[" + std::to_string(k) + "]", d.C_.row(k).transpose()});
   return d;
 }
 
@@ -37,11 +40,13 @@ void CageDeformer::pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out)
   if (options_.mode == Mode::Motor) return field_.pose(motors, V_out);  // M_i = blend(R; λ_i) (§VI)
   const Eigen::Index k = C_.rows();
   if (static_cast<Eigen::Index>(motors.size()) != k)
-    throw Error("CageDeformer: " + std::to_string(motors.size()) + " motors for " + std::to_string(k) + " cage vertices");
+    throw Error("CageDeformer: " + std::to_string(motors.size()) + " motors for " + std::to_string(k) +
+                " cage vertices");
   if (moved_.rows() != k) moved_.resize(k, 3);
   for (Eigen::Index j = 0; j < k; ++j)
-    moved_.row(j) = ga::transform(checked_unit_motor(motors[j], "cage motor " + std::to_string(j)), C_.row(j).transpose())
-                        .transpose();
+    moved_.row(j) =
+        ga::transform(checked_unit_motor(motors[j], "cage motor " + std::to_string(j)), C_.row(j).transpose())
+            .transpose();
   pose_points(moved_, V_out);
 }
 

@@ -5,9 +5,9 @@
 #include <limits>
 #include <sstream>
 
-#include "spinmotor/deform/deformer.hpp"
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/core/parallel.hpp"
+#include "spinmotor/deform/deformer.hpp"
 
 namespace spinmotor {
 
@@ -30,7 +30,8 @@ ga::Rot minimal_rotation(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 void check_chain(const Eigen::MatrixXd& c, const char* what) {
   if (c.rows() < 2 || c.cols() != 3)
     throw Error(std::string("chain_motors: the ") + what + " chain needs at least 2 joints (k×3)");
-  if (!c.allFinite()) throw Error(std::string("chain_motors: a joint of the ") + what + " chain is not finite");
+  if (!c.allFinite())
+    throw Error(std::string("chain_motors: a joint of the ") + what + " chain is not finite");
   for (Eigen::Index i = 0; i + 1 < c.rows(); ++i)
     if (!((c.row(i + 1) - c.row(i)).norm() > 0.0)) {
       std::ostringstream s;
@@ -45,7 +46,8 @@ std::vector<ga::Mot> chain_motors(const Eigen::MatrixXd& rest, const Eigen::Matr
                                   const std::optional<ga::Rot>& end_rotation) {
   check_chain(rest, "rest");
   check_chain(posed, "posed");
-  if (rest.rows() != posed.rows()) throw Error("chain_motors: the rest and posed chains have different joint counts");
+  if (rest.rows() != posed.rows())
+    throw Error("chain_motors: the rest and posed chains have different joint counts");
   const Eigen::Index k = rest.rows();
   // Rotation-minimising bone frames F_b (parallel transport).
   std::vector<ga::Rot> frame(k - 1);
@@ -70,7 +72,8 @@ std::vector<ga::Mot> chain_motors(const Eigen::MatrixXd& rest, const Eigen::Matr
       R = frame[i - 1] * ga::exp(0.5 * ga::log(ga::reverse(frame[i - 1]) * frame[i]));
     }
     const double nr = R.coeffs().norm();
-    if (!std::isfinite(nr) || std::abs(nr - 1.0) > 1e-6) throw Error("chain_motors: the end rotation is not a unit rotor");
+    if (!std::isfinite(nr) || std::abs(nr - 1.0) > 1e-6)
+      throw Error("chain_motors: the end rotation is not a unit rotor");
     R = ga::Rot(R.w() / nr, R.x() / nr, R.y() / nr, R.z() / nr);
     const Eigen::Vector3d p = rest.row(i).transpose(), pp = posed.row(i).transpose();
     Q[i] = ga::motor(R, ga::translator(pp - ga::rotate(R, p)));  // T(p') R T(−p)
@@ -78,7 +81,8 @@ std::vector<ga::Mot> chain_motors(const Eigen::MatrixXd& rest, const Eigen::Matr
   return Q;
 }
 
-Eigen::VectorXd chain_parameters(const Eigen::MatrixXd& V, const Eigen::VectorXd& lambda, const Eigen::MatrixXd& chain) {
+Eigen::VectorXd chain_parameters(const Eigen::MatrixXd& V, const Eigen::VectorXd& lambda,
+                                 const Eigen::MatrixXd& chain) {
   check_chain(chain, "rest");
   const Eigen::Index n = V.rows(), k = chain.rows();
   if (lambda.size() != n) throw Error("chain_parameters: one λ per vertex needed");
@@ -127,8 +131,8 @@ ChainFit fit_chain(const Eigen::MatrixXd& V, const Eigen::VectorXd& lambda, cons
   r.joint_parameters = chain_parameters(V, lambda, rest_chain);
   BSplineFitOptions o = options;
   o.interpolate_ends = true;
-  r.fit = fit_bspline_motors(r.joint_motors,
-                             std::span<const double>(r.joint_parameters.data(), r.joint_parameters.size()), o);
+  r.fit = fit_bspline_motors(
+      r.joint_motors, std::span<const double>(r.joint_parameters.data(), r.joint_parameters.size()), o);
   return r;
 }
 

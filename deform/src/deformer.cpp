@@ -52,8 +52,8 @@ std::vector<Control> handle_controls(const Eigen::MatrixXd& V, std::span<const H
 
 void check_motors(std::span<const ga::Mot> motors, std::span<const Control> controls, const char* who) {
   if (motors.size() != controls.size())
-    throw Error(std::string(who) + ": expected " + std::to_string(controls.size()) + " motors (one per control), got " +
-                std::to_string(motors.size()));
+    throw Error(std::string(who) + ": expected " + std::to_string(controls.size()) +
+                " motors (one per control), got " + std::to_string(motors.size()));
   for (std::size_t j = 0; j < motors.size(); ++j)
     (void)checked_unit_motor(motors[j], std::string(who) + ": motor " + std::to_string(j) + " (control '" +
                                             controls[j].name + "')");

@@ -14,10 +14,12 @@ namespace spinmotor::detail {
   const double w = m[0], vx = -m[3], vy = -m[2], vz = -m[1];
   const double d0 = -m[7], dx = -m[4], dy = -m[5], dz = -m[6];
   const double s2 = 2.0 / (w * w + vx * vx + vy * vy + vz * vz);
-  const double ax = vy * p.z() - vz * p.y(), ay = vz * p.x() - vx * p.z(), az = vx * p.y() - vy * p.x();  // v × p
-  const double bx = vy * az - vz * ay, by = vz * ax - vx * az, bz = vx * ay - vy * ax;                 // v × (v × p)
-  const double cx = vy * dz - vz * dy, cy = vz * dx - vx * dz, cz = vx * dy - vy * dx;                 // v × dv
-  return {p.x() + s2 * (w * ax + bx + w * dx - d0 * vx + cx), p.y() + s2 * (w * ay + by + w * dy - d0 * vy + cy),
+  const double ax = vy * p.z() - vz * p.y(), ay = vz * p.x() - vx * p.z(),
+               az = vx * p.y() - vy * p.x();                                            // v × p
+  const double bx = vy * az - vz * ay, by = vz * ax - vx * az, bz = vx * ay - vy * ax;  // v × (v × p)
+  const double cx = vy * dz - vz * dy, cy = vz * dx - vx * dz, cz = vx * dy - vy * dx;  // v × dv
+  return {p.x() + s2 * (w * ax + bx + w * dx - d0 * vx + cx),
+          p.y() + s2 * (w * ay + by + w * dy - d0 * vy + cy),
           p.z() + s2 * (w * az + bz + w * dz - d0 * vz + cz)};
 }
 

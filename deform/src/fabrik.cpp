@@ -20,8 +20,9 @@ inline Eigen::Vector3d place(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
 }
 
 /// FABRIK on joints P (in place) with bone lengths len, root fixed at P.row(0).
-FabrikResult solve(Eigen::MatrixXd P, const std::vector<double>& len, const std::vector<Eigen::Vector3d>& rest_dir,
-                   const Eigen::Vector3d& t, const FabrikOptions& o) {
+FabrikResult solve(Eigen::MatrixXd P, const std::vector<double>& len,
+                   const std::vector<Eigen::Vector3d>& rest_dir, const Eigen::Vector3d& t,
+                   const FabrikOptions& o) {
   const int k = static_cast<int>(P.rows());
   FabrikResult res;
   const Eigen::Vector3d root = P.row(0).transpose();
@@ -42,10 +43,12 @@ FabrikResult solve(Eigen::MatrixXd P, const std::vector<double>& len, const std:
     const double previous = res.error;
     // Forward reaching: the end effector to the target, then towards the root.
     P.row(k - 1) = t.transpose();
-    for (int i = k - 2; i >= 0; --i) P.row(i) = place(joint(i + 1), joint(i), len[i], -rest_dir[i]).transpose();
+    for (int i = k - 2; i >= 0; --i)
+      P.row(i) = place(joint(i + 1), joint(i), len[i], -rest_dir[i]).transpose();
     // Backward reaching: the root back in place, then outwards.
     P.row(0) = root.transpose();
-    for (int i = 0; i + 1 < k; ++i) P.row(i + 1) = place(joint(i), joint(i + 1), len[i], rest_dir[i]).transpose();
+    for (int i = 0; i + 1 < k; ++i)
+      P.row(i + 1) = place(joint(i), joint(i + 1), len[i], rest_dir[i]).transpose();
     ++res.iterations;
     res.error = (joint(k - 1) - t).norm();
     // A straight chain aimed along its own line (target on that line) has no preferred bending plane:
@@ -66,7 +69,8 @@ FabrikResult solve(Eigen::MatrixXd P, const std::vector<double>& len, const std:
 
 }  // namespace
 
-FabrikResult fabrik(const Eigen::MatrixXd& chain, const Eigen::Vector3d& target, const FabrikOptions& options) {
+FabrikResult fabrik(const Eigen::MatrixXd& chain, const Eigen::Vector3d& target,
+                    const FabrikOptions& options) {
   const int k = static_cast<int>(chain.rows());
   if (k < 2 || chain.cols() != 3) throw Error("fabrik: the chain needs at least 2 joints (k×3)");
   if (!chain.allFinite()) throw Error("fabrik: a chain joint is not finite");
@@ -89,7 +93,8 @@ FabrikResult fabrik(const Eigen::MatrixXd& chain, const Eigen::Vector3d& target,
 
   const ga::Rot& r = *options.end_rotation;
   const double nr = r.coeffs().norm();
-  if (!std::isfinite(nr) || std::abs(nr - 1.0) > 1e-6) throw Error("fabrik: the end rotation is not a unit rotor");
+  if (!std::isfinite(nr) || std::abs(nr - 1.0) > 1e-6)
+    throw Error("fabrik: the end rotation is not a unit rotor");
   const Eigen::Vector3d end_dir = ga::rotate(r, dir[k - 2]) / nr / nr;
   FabrikResult res;
   if (k == 2) {  // only the root: the end joint is fixed by the orientation

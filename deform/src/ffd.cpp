@@ -1,14 +1,14 @@
 #include "spinmotor/deform/ffd.hpp"
-#include "spinmotor/deform/spline_basis.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
 #include "dlb_point.hpp"
-#include "spinmotor/deform/motor_blend_field.hpp"
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/core/parallel.hpp"
+#include "spinmotor/deform/motor_blend_field.hpp"
+#include "spinmotor/deform/spline_basis.hpp"
 
 namespace spinmotor {
 
@@ -60,13 +60,15 @@ enum class Kernel { Position, Log, Linear };
 
 template <int O, Kernel K>
 void run(const Eigen::MatrixXd& P, const std::vector<unsigned char>& inside,
-         const std::vector<std::array<int, 3>>& start, const std::vector<double>& basis, const std::array<int, 3>& dims,
-         const std::array<int, 3>& order, const void* lanes, const double* signs, const std::vector<int>& pivot,
-         Eigen::MatrixXd& V_out) {
+         const std::vector<std::array<int, 3>>& start, const std::vector<double>& basis,
+         const std::array<int, 3>& dims, const std::array<int, 3>& order, const void* lanes,
+         const double* signs, const std::vector<int>& pivot, Eigen::MatrixXd& V_out) {
   const Eigen::Index n = P.rows(), L = static_cast<Eigen::Index>(dims[0]) * dims[1] * dims[2];
   const int stride = order[0] + order[1] + order[2];
   bool cancelled = false;
-#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend)) reduction(|| : cancelled)
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend)) \
+    reduction(||                                                                         \
+              : cancelled)
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::Vector3d p(P(i, 0), P(i, 1), P(i, 2));
     if (!inside[i]) {
@@ -89,7 +91,8 @@ void run(const Eigen::MatrixXd& P, const std::vector<unsigned char>& inside,
     }
     V_out(i, 0) = q.x(), V_out(i, 1) = q.y(), V_out(i, 2) = q.z();
   }
-  if (cancelled) throw numerical_error("FfdDeformer: the linear blend of the control motors cancels at a vertex");
+  if (cancelled)
+    throw numerical_error("FfdDeformer: the linear blend of the control motors cancels at a vertex");
 }
 
 template <Kernel K>
@@ -132,7 +135,8 @@ FfdDeformer FfdDeformer::bind(const Eigen::MatrixXd& V, const Options& options) 
     if (options.basis == Basis::Bezier && f.dims_[a] > 32)
       throw Error(std::string("FfdDeformer: a Bezier lattice of more than 32 controls along ") + kAxis[a] +
                   " (use bspline)");
-    f.order_[a] = 1 + (options.basis == Basis::Bezier ? f.dims_[a] - 1 : std::min(options.degree, f.dims_[a] - 1));
+    f.order_[a] =
+        1 + (options.basis == Basis::Bezier ? f.dims_[a] - 1 : std::min(options.degree, f.dims_[a] - 1));
   }
 
   if (options.box) {
@@ -146,7 +150,8 @@ FfdDeformer FfdDeformer::bind(const Eigen::MatrixXd& V, const Options& options) 
     const Eigen::Vector3d size = b.sizes();
     const double big = size.maxCoeff() > 0.0 ? size.maxCoeff() : 1.0;
     Eigen::Vector3d grow;
-    for (int a = 0; a < 3; ++a) grow[a] = size[a] > 0.0 ? options.margin * size[a] : std::max(options.margin, 0.05) * big;
+    for (int a = 0; a < 3; ++a)
+      grow[a] = size[a] > 0.0 ? options.margin * size[a] : std::max(options.margin, 0.05) * big;
     f.box_ = Eigen::AlignedBox3d(b.min() - grow, b.max() + grow);
   }
 
@@ -155,7 +160,8 @@ FfdDeformer FfdDeformer::bind(const Eigen::MatrixXd& V, const Options& options) 
   for (int a = 0; a < f.dims_[0]; ++a)
     for (int b = 0; b < f.dims_[1]; ++b)
       for (int c = 0; c < f.dims_[2]; ++c) {
-        const Eigen::Vector3d xi(greville(a, f.dims_[0], f.order_[0] - 1), greville(b, f.dims_[1], f.order_[1] - 1),
+        const Eigen::Vector3d xi(greville(a, f.dims_[0], f.order_[0] - 1),
+                                 greville(b, f.dims_[1], f.order_[1] - 1),
                                  greville(c, f.dims_[2], f.order_[2] - 1));
         f.C_.row(f.index(a, b, c)) = (f.box_.min() + xi.cwiseProduct(f.box_.sizes())).transpose();
       }
@@ -196,8 +202,9 @@ FfdDeformer FfdDeformer::bind(const Eigen::MatrixXd& V, const Options& options) 
   for (int a = 0; a < f.dims_[0]; ++a)
     for (int b = 0; b < f.dims_[1]; ++b)
       for (int c = 0; c < f.dims_[2]; ++c)
-        f.controls_.push_back({"ffd[" + std::to_string(a) + "," + std::to_string(b) + "," + std::to_string(c) + "]",
-                               f.C_.row(f.index(a, b, c)).transpose()});
+        f.controls_.push_back(
+            {"ffd[" + std::to_string(a) + "," + std::to_string(b) + "," + std::to_string(c) + "]",
+             f.C_.row(f.index(a, b, c)).transpose()});
   return f;
 }
 
@@ -208,7 +215,8 @@ void FfdDeformer::check_motors(std::span<const ga::Mot> motors) {
     s << "FfdDeformer: " << motors.size() << " motors given for " << L << " lattice controls";
     throw Error(s.str());
   }
-  for (Eigen::Index j = 0; j < L; ++j) motors_[j] = checked_unit_motor(motors[j], "FFD control motor " + std::to_string(j));
+  for (Eigen::Index j = 0; j < L; ++j)
+    motors_[j] = checked_unit_motor(motors[j], "FFD control motor " + std::to_string(j));
 }
 
 void FfdDeformer::pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out) {
@@ -216,7 +224,8 @@ void FfdDeformer::pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out) 
   const Eigen::Index L = C_.rows(), n = vertices();
   if (options_.mode == Mode::Position) {
     if (points_.rows() != L) points_.resize(L, 3);
-    for (Eigen::Index j = 0; j < L; ++j) points_.row(j) = ga::transform(motors_[j], C_.row(j).transpose()).transpose();
+    for (Eigen::Index j = 0; j < L; ++j)
+      points_.row(j) = ga::transform(motors_[j], C_.row(j).transpose()).transpose();
     pose_points(points_, V_out);
     return;
   }
@@ -231,9 +240,11 @@ void FfdDeformer::pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out) 
     for (Eigen::Index j = 0; j < L; ++j) lanes_[j] = Eigen::Map<const A8>(motors_[j].data());
     for (Eigen::Index p = 0; p < L; ++p) {
       const ga::Mot rp = ga::reverse(motors_[p]);
-      for (Eigen::Index j = 0; j < L; ++j) signs_[p * L + j] = std::signbit(ga::scalar(motors_[j], rp)) ? -1 : 1;
+      for (Eigen::Index j = 0; j < L; ++j)
+        signs_[p * L + j] = std::signbit(ga::scalar(motors_[j], rp)) ? -1 : 1;
     }
-    dispatch<Kernel::Linear>(P_, inside_, start_, basis_, dims_, order_, lanes_.data(), signs_.data(), pivot_, V_out);
+    dispatch<Kernel::Linear>(P_, inside_, start_, basis_, dims_, order_, lanes_.data(), signs_.data(), pivot_,
+                             V_out);
   }
 }
 
@@ -242,15 +253,18 @@ void FfdDeformer::pose_points(const Eigen::MatrixXd& controls_in, Eigen::MatrixX
   if (options_.mode != Mode::Position) throw Error("FfdDeformer::pose_points needs the position mode");
   if (controls_in.rows() != L || controls_in.cols() != 3) {
     std::ostringstream s;
-    s << "FfdDeformer: " << controls_in.rows() << "×" << controls_in.cols() << " control points for a lattice of " << L;
+    s << "FfdDeformer: " << controls_in.rows() << "×" << controls_in.cols()
+      << " control points for a lattice of " << L;
     throw Error(s.str());
   }
   for (Eigen::Index j = 0; j < L; ++j) {
-    if (!controls_in.row(j).allFinite()) throw Error("FfdDeformer: control point " + std::to_string(j) + " is not finite");
+    if (!controls_in.row(j).allFinite())
+      throw Error("FfdDeformer: control point " + std::to_string(j) + " is not finite");
     points4_[j] << controls_in(j, 0), controls_in(j, 1), controls_in(j, 2), 0.0;
   }
   if (V_out.rows() != n || V_out.cols() != 3) V_out.resize(n, 3);
-  dispatch<Kernel::Position>(P_, inside_, start_, basis_, dims_, order_, points4_.data(), nullptr, pivot_, V_out);
+  dispatch<Kernel::Position>(P_, inside_, start_, basis_, dims_, order_, points4_.data(), nullptr, pivot_,
+                             V_out);
 }
 
 Eigen::SparseMatrix<double, Eigen::RowMajor> FfdDeformer::weights() const {
@@ -265,7 +279,8 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> FfdDeformer::weights() const {
     for (int a = 0; a < order_[0]; ++a)
       for (int b = 0; b < order_[1]; ++b)
         for (int c = 0; c < order_[2]; ++c)
-          t.emplace_back(i, index(start_[i][0] + a, start_[i][1] + b, start_[i][2] + c), bu[a] * bv[b] * bw[c]);
+          t.emplace_back(i, index(start_[i][0] + a, start_[i][1] + b, start_[i][2] + c),
+                         bu[a] * bv[b] * bw[c]);
   }
   Eigen::SparseMatrix<double, Eigen::RowMajor> W(n, L);
   W.setFromTriplets(t.begin(), t.end());
@@ -273,8 +288,10 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> FfdDeformer::weights() const {
 }
 
 ga::Mot FfdDeformer::vertex_motor(Eigen::Index i, std::span<const ga::Mot> motors) const {
-  if (i < 0 || i >= vertices()) throw Error("FfdDeformer::vertex_motor: vertex " + std::to_string(i) + " out of range");
-  if (static_cast<Eigen::Index>(motors.size()) != C_.rows()) throw Error("FfdDeformer::vertex_motor: wrong motor count");
+  if (i < 0 || i >= vertices())
+    throw Error("FfdDeformer::vertex_motor: vertex " + std::to_string(i) + " out of range");
+  if (static_cast<Eigen::Index>(motors.size()) != C_.rows())
+    throw Error("FfdDeformer::vertex_motor: wrong motor count");
   if (!inside_[i]) return ga::Mot(1.0, 0, 0, 0, 0, 0, 0, 0);
   const double* bu = basis_.data() + i * (order_[0] + order_[1] + order_[2]);
   const double* bv = bu + order_[0];

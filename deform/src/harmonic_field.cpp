@@ -4,8 +4,8 @@
 #include <vector>
 
 #include "spinmotor/core/error.hpp"
-#include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/linalg/dirichlet_solver.hpp"
+#include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/mesh/mean_value_laplacian.hpp"
 
 namespace spinmotor {

@@ -3,10 +3,10 @@
 #include <cmath>
 #include <sstream>
 
-#include "spinmotor/deform/deformer.hpp"
-#include "spinmotor/core/error.hpp"
 #include "dlb_point.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/core/parallel.hpp"
+#include "spinmotor/deform/deformer.hpp"
 
 namespace spinmotor {
 
@@ -26,8 +26,8 @@ ga::Mot checked_unit_motor(const ga::Mot& m, const std::string& what) {
 namespace {
 
 /// Σ_j s_pj w_j R_j, the unnormalized linear blend.
-[[gnu::always_inline]] inline ga::Mot linear_sum(const double* w, Eigen::Index k, int pivot, const ga::Mot* motors,
-                                                 const double* signs) {
+[[gnu::always_inline]] inline ga::Mot linear_sum(const double* w, Eigen::Index k, int pivot,
+                                                 const ga::Mot* motors, const double* signs) {
   const double* sp = signs + pivot * k;
   ga::Mot acc;
   for (Eigen::Index j = 0; j < k; ++j) {
@@ -39,8 +39,9 @@ namespace {
 
 /// Per-vertex motor of the field for the prepared controls. Inlined into the vertex loops.
 template <ga::Blend Mode>
-[[gnu::always_inline]] inline ga::Mot field_motor(const double* w, Eigen::Index k, int pivot, const ga::Dll* logs,
-                                                 const ga::Mot* motors, const double* signs) {
+[[gnu::always_inline]] inline ga::Mot field_motor(const double* w, Eigen::Index k, int pivot,
+                                                  const ga::Dll* logs, const ga::Mot* motors,
+                                                  const double* signs) {
   if constexpr (Mode == ga::Blend::Log) {
     ga::Dll acc;
     for (Eigen::Index j = 0; j < k; ++j)
@@ -70,9 +71,10 @@ template <ga::Blend Mode>
 /// Four vertices of the linear (DLB) blend at once, i0..i0+3: Σ_j s_pj w_ij R_j in lanes, then
 /// dlb_point's formula lane by lane (component layout of ga/interop.hpp: rotor part
 /// (m0, −m3, −m2, −m1), dual part (−m7, −m4, −m5, −m6)). Writes V_out rows i0..i0+3.
-[[gnu::always_inline]] inline void dlb_block(const double* w, Eigen::Index k, const int* pivot, const ga::Mot* motors,
-                                            const double* signs, const Eigen::MatrixXd& P, Eigen::Index i0,
-                                            Eigen::MatrixXd& V_out) {
+[[gnu::always_inline]] inline void dlb_block(const double* w, Eigen::Index k, const int* pivot,
+                                             const ga::Mot* motors, const double* signs,
+                                             const Eigen::MatrixXd& P, Eigen::Index i0,
+                                             Eigen::MatrixXd& V_out) {
   using A = Eigen::Array<double, 4, 1>;
   A acc[8];
   for (auto& a : acc) a.setZero();
@@ -86,8 +88,10 @@ template <ga::Blend Mode>
   const A& rw = acc[0];
   const A vx = -acc[3], vy = -acc[2], vz = -acc[1];
   const A d0 = -acc[7], dx = -acc[4], dy = -acc[5], dz = -acc[6];
-  const A px = P.col(0).segment<4>(i0).array(), py = P.col(1).segment<4>(i0).array(), pz = P.col(2).segment<4>(i0).array();
-  const A s2 = 2.0 / (rw * rw + vx * vx + vy * vy + vz * vz);  // a cancelled blend gives inf/NaN: reported later
+  const A px = P.col(0).segment<4>(i0).array(), py = P.col(1).segment<4>(i0).array(),
+          pz = P.col(2).segment<4>(i0).array();
+  const A s2 =
+      2.0 / (rw * rw + vx * vx + vy * vy + vz * vz);  // a cancelled blend gives inf/NaN: reported later
   const A ax = vy * pz - vz * py, ay = vz * px - vx * pz, az = vx * py - vy * px;  // v × p
   const A bx = vy * az - vz * ay, by = vz * ax - vx * az, bz = vx * ay - vy * ax;  // v × (v × p)
   const A cx = vy * dz - vz * dy, cy = vz * dx - vx * dz, cz = vx * dy - vy * dx;  // v × dv
@@ -97,12 +101,14 @@ template <ga::Blend Mode>
 }
 
 /// The Linear pose: blocks of four vertices, the last n mod 4 one by one.
-void run_linear_pose(const MotorBlendField::Weights& W, const Eigen::MatrixXd& P, const Eigen::VectorXi& pivot,
-                     const std::vector<ga::Mot>& motors, const std::vector<double>& signs, Eigen::MatrixXd& V_out) {
+void run_linear_pose(const MotorBlendField::Weights& W, const Eigen::MatrixXd& P,
+                     const Eigen::VectorXi& pivot, const std::vector<ga::Mot>& motors,
+                     const std::vector<double>& signs, Eigen::MatrixXd& V_out) {
   const Eigen::Index n = P.rows(), k = W.cols(), blocks = n / 4;
   const double* w = W.data();
 #pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend))
-  for (Eigen::Index b = 0; b < blocks; ++b) dlb_block(w, k, pivot.data(), motors.data(), signs.data(), P, 4 * b, V_out);
+  for (Eigen::Index b = 0; b < blocks; ++b)
+    dlb_block(w, k, pivot.data(), motors.data(), signs.data(), P, 4 * b, V_out);
   for (Eigen::Index i = 4 * blocks; i < n; ++i)
     V_out.row(i) = detail::dlb_point(linear_sum(w + i * k, k, pivot[i], motors.data(), signs.data()).data(),
                                      Eigen::Vector3d(P(i, 0), P(i, 1), P(i, 2)))
@@ -110,8 +116,8 @@ void run_linear_pose(const MotorBlendField::Weights& W, const Eigen::MatrixXd& P
 }
 
 template <ga::Blend Mode, class Out>
-void run_field(const MotorBlendField::Weights& W, const Eigen::MatrixXd& P,
-               const Eigen::VectorXi& pivot, const std::vector<ga::Dll>& logs, const std::vector<ga::Mot>& motors,
+void run_field(const MotorBlendField::Weights& W, const Eigen::MatrixXd& P, const Eigen::VectorXi& pivot,
+               const std::vector<ga::Dll>& logs, const std::vector<ga::Mot>& motors,
                const std::vector<double>& signs, bool inverse, Out&& out) {
   const Eigen::Index n = P.rows(), k = W.cols();
   const double* w = W.data();
@@ -129,10 +135,9 @@ void run_field(const MotorBlendField::Weights& W, const Eigen::MatrixXd& P,
 }
 
 template <class Out>
-void dispatch(ga::Blend mode, const MotorBlendField::Weights& W,
-              const Eigen::MatrixXd& P, const Eigen::VectorXi& pivot,
-              const std::vector<ga::Dll>& logs, const std::vector<ga::Mot>& motors, const std::vector<double>& signs,
-              bool inverse, Out&& out) {
+void dispatch(ga::Blend mode, const MotorBlendField::Weights& W, const Eigen::MatrixXd& P,
+              const Eigen::VectorXi& pivot, const std::vector<ga::Dll>& logs,
+              const std::vector<ga::Mot>& motors, const std::vector<double>& signs, bool inverse, Out&& out) {
   switch (mode) {
     case ga::Blend::Log:
       return run_field<ga::Blend::Log>(W, P, pivot, logs, motors, signs, inverse, out);
@@ -149,8 +154,8 @@ void check_finite_output(const Eigen::MatrixXd& V) {
   if (V.allFinite()) return;
   for (Eigen::Index i = 0; i < V.rows(); ++i)
     if (!V.row(i).allFinite())
-      throw numerical_error("MotorBlendField: the linear blend of the motors cancels at vertex " + std::to_string(i) +
-                            " (its weights are not a positive partition of unity)");
+      throw numerical_error("MotorBlendField: the linear blend of the motors cancels at vertex " +
+                            std::to_string(i) + " (its weights are not a positive partition of unity)");
 }
 
 }  // namespace
@@ -166,7 +171,8 @@ MotorBlendField MotorBlendField::bind(const Eigen::MatrixXd& V_rest, Weights W, 
   }
   if (k == 0) throw Error("MotorBlendField: needs at least one control motor");
   for (Eigen::Index i = 0; i < n; ++i) {
-    if (!V_rest.row(i).allFinite()) throw Error("MotorBlendField: vertex " + std::to_string(i) + " is not finite");
+    if (!V_rest.row(i).allFinite())
+      throw Error("MotorBlendField: vertex " + std::to_string(i) + " is not finite");
     if (!W.row(i).allFinite())
       throw Error("MotorBlendField: the weights of vertex " + std::to_string(i) + " are not finite");
   }
@@ -209,7 +215,8 @@ void MotorBlendField::prepare(std::span<const ga::Mot> motors) {
     s << "MotorBlendField: " << motors.size() << " motors given for " << k << " controls";
     throw Error(s.str());
   }
-  for (Eigen::Index j = 0; j < k; ++j) motors_[j] = checked_unit_motor(motors[j], "motor " + std::to_string(j));
+  for (Eigen::Index j = 0; j < k; ++j)
+    motors_[j] = checked_unit_motor(motors[j], "motor " + std::to_string(j));
   switch (mode_) {
     case ga::Blend::Log:
       for (Eigen::Index j = 0; j < k; ++j) logs_[j] = ga::log(motors_[j]);
@@ -217,13 +224,15 @@ void MotorBlendField::prepare(std::span<const ga::Mot> motors) {
     case ga::Blend::PivotLog:
       for (Eigen::Index p = 0; p < k; ++p) {
         const ga::Mot inv = ga::reverse(motors_[p]);
-        for (Eigen::Index j = 0; j < k; ++j) logs_[p * k + j] = j == p ? ga::Dll{} : ga::log(motors_[j] * inv);
+        for (Eigen::Index j = 0; j < k; ++j)
+          logs_[p * k + j] = j == p ? ga::Dll{} : ga::log(motors_[j] * inv);
       }
       break;
     case ga::Blend::Linear:
       for (Eigen::Index p = 0; p < k; ++p) {
         const ga::Mot rp = ga::reverse(motors_[p]);
-        for (Eigen::Index j = 0; j < k; ++j) signs_[p * k + j] = std::signbit(ga::scalar(motors_[j], rp)) ? -1.0 : 1.0;
+        for (Eigen::Index j = 0; j < k; ++j)
+          signs_[p * k + j] = std::signbit(ga::scalar(motors_[j], rp)) ? -1.0 : 1.0;
       }
       break;
   }
@@ -238,11 +247,12 @@ void MotorBlendField::pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_o
     check_finite_output(V_out);
     return;
   }
-  dispatch(mode_, W_, P_, pivot_, logs_, motors_, signs_, false, [&V_out](Eigen::Index i, const Eigen::Vector3d& p) {
-    V_out(i, 0) = p.x();
-    V_out(i, 1) = p.y();
-    V_out(i, 2) = p.z();
-  });
+  dispatch(mode_, W_, P_, pivot_, logs_, motors_, signs_, false,
+           [&V_out](Eigen::Index i, const Eigen::Vector3d& p) {
+             V_out(i, 0) = p.x();
+             V_out(i, 1) = p.y();
+             V_out(i, 2) = p.z();
+           });
 }
 
 void MotorBlendField::pose_generators(std::span<const ga::Dll> generators, Eigen::MatrixXd& V_out) {
@@ -255,7 +265,8 @@ void MotorBlendField::pose_generators(std::span<const ga::Dll> generators, Eigen
   }
   for (Eigen::Index j = 0; j < k; ++j) {
     for (double c : generators[j].c)
-      if (!std::isfinite(c)) throw Error("MotorBlendField: generator " + std::to_string(j) + " is not finite");
+      if (!std::isfinite(c))
+        throw Error("MotorBlendField: generator " + std::to_string(j) + " is not finite");
     logs_[j] = generators[j];
   }
   const Eigen::Index n = vertices();
@@ -269,9 +280,12 @@ void MotorBlendField::pose_generators(std::span<const ga::Dll> generators, Eigen
 }
 
 ga::Mot MotorBlendField::vertex_motor(Eigen::Index i, std::span<const ga::Mot> motors) const {
-  if (i < 0 || i >= vertices()) throw Error("MotorBlendField::vertex_motor: vertex " + std::to_string(i) + " out of range");
-  if (static_cast<Eigen::Index>(motors.size()) != controls()) throw Error("MotorBlendField::vertex_motor: wrong motor count");
-  return ga::blend(motors, std::span<const double>(W_.row(i).data(), static_cast<std::size_t>(controls())), mode_);
+  if (i < 0 || i >= vertices())
+    throw Error("MotorBlendField::vertex_motor: vertex " + std::to_string(i) + " out of range");
+  if (static_cast<Eigen::Index>(motors.size()) != controls())
+    throw Error("MotorBlendField::vertex_motor: wrong motor count");
+  return ga::blend(motors, std::span<const double>(W_.row(i).data(), static_cast<std::size_t>(controls())),
+                   mode_);
 }
 
 }  // namespace spinmotor

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/deform/motor_blend_field.hpp"  // checked_unit_motor
 #include "spinmotor/deform/skinning.hpp"
-#include "spinmotor/core/error.hpp"
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 #include "spinmotor/mesh/topology.hpp"

@@ -7,9 +7,9 @@
 #include <sstream>
 
 #include "dlb_point.hpp"
-#include "spinmotor/deform/motor_blend_field.hpp"
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/core/parallel.hpp"
+#include "spinmotor/deform/motor_blend_field.hpp"
 
 namespace spinmotor {
 
@@ -18,7 +18,8 @@ namespace {
 const ga::Mot kIdentity(1, 0, 0, 0, 0, 0, 0, 0);
 
 /// Distance from p to the segment a–b and the parameter t ∈ [0, 1] of the closest point.
-double segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double& t) {
+double segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                        double& t) {
   const Eigen::Vector3d d = b - a;
   t = std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
   return (p - a - t * d).norm();
@@ -65,7 +66,8 @@ std::vector<ga::Mot> inherit_bone_motions(std::span<const Bone> bones, std::span
                                           const std::vector<bool>& has) {
   check_skeleton(bones);
   const std::size_t B = bones.size();
-  if (given.size() != B || has.size() != B) throw Error("inherit_bone_motions: sizes differ from the bone count");
+  if (given.size() != B || has.size() != B)
+    throw Error("inherit_bone_motions: sizes differ from the bone count");
   std::vector<ga::Mot> out(B);
   for (std::size_t j = 0; j < B; ++j) {
     int p = static_cast<int>(j);
@@ -101,13 +103,16 @@ Eigen::MatrixXd bone_harmonic_weights(const Mesh& mesh, std::span<const Bone> bo
   std::vector<Handle> handles(B);
   for (int j = 0; j < B; ++j) {
     if (region[j].empty())
-      throw Error("bone_harmonic_weights: bone '" + bones[j].name + "' is the nearest bone of no vertex away from its joints");
-    handles[j] = {"bone '" + bones[j].name + "'", Eigen::Map<Eigen::VectorXi>(region[j].data(), region[j].size())};
+      throw Error("bone_harmonic_weights: bone '" + bones[j].name +
+                  "' is the nearest bone of no vertex away from its joints");
+    handles[j] = {"bone '" + bones[j].name + "'",
+                  Eigen::Map<Eigen::VectorXi>(region[j].data(), region[j].size())};
   }
   return harmonic_coordinates(mesh.V, mesh.F, handles, weights);
 }
 
-Eigen::MatrixXd read_skin_weights(const std::filesystem::path& path, std::span<const Bone> bones, Eigen::Index n) {
+Eigen::MatrixXd read_skin_weights(const std::filesystem::path& path, std::span<const Bone> bones,
+                                  Eigen::Index n) {
   std::ifstream in(path);
   if (!in) throw Error(path.string() + ": cannot open the skin weight file");
   const int B = static_cast<int>(bones.size());
@@ -118,7 +123,9 @@ Eigen::MatrixXd read_skin_weights(const std::filesystem::path& path, std::span<c
   Eigen::Index row = 0;
   std::string line;
   std::size_t lineno = 0;
-  auto fail = [&](const std::string& msg) { throw Error(path.string() + ":" + std::to_string(lineno) + ": " + msg); };
+  auto fail = [&](const std::string& msg) {
+    throw Error(path.string() + ":" + std::to_string(lineno) + ": " + msg);
+  };
   while (std::getline(in, line)) {
     ++lineno;
     if (const auto h = line.find('#'); h != std::string::npos) line.resize(h);
@@ -143,7 +150,8 @@ Eigen::MatrixXd read_skin_weights(const std::filesystem::path& path, std::span<c
     }
     if (row >= n) fail("more vertex lines than the mesh's " + std::to_string(n) + " vertices");
     if (static_cast<int>(toks.size()) != B)
-      fail(std::to_string(toks.size()) + " values for " + std::to_string(B) + " bones (vertex " + std::to_string(row) + ")");
+      fail(std::to_string(toks.size()) + " values for " + std::to_string(B) + " bones (vertex " +
+           std::to_string(row) + ")");
     double sum = 0.0;
     for (int c = 0; c < B; ++c) {
       double v;
@@ -153,7 +161,8 @@ Eigen::MatrixXd read_skin_weights(const std::filesystem::path& path, std::span<c
       } catch (const std::exception&) {
         used = 0;
       }
-      if (used != toks[c].size()) fail("'" + toks[c] + "' is not a number (vertex " + std::to_string(row) + ")");
+      if (used != toks[c].size())
+        fail("'" + toks[c] + "' is not a number (vertex " + std::to_string(row) + ")");
       if (!std::isfinite(v) || v < 0.0)
         fail("weight " + toks[c] + " of vertex " + std::to_string(row) + " must be finite and ≥ 0");
       W(row, column[c]) = v;
@@ -164,8 +173,8 @@ Eigen::MatrixXd read_skin_weights(const std::filesystem::path& path, std::span<c
   }
   if (column.empty()) throw Error(path.string() + ": no 'bones' header (empty file?)");
   if (row != n)
-    throw Error(path.string() + ": " + std::to_string(row) + " vertex lines for a mesh of " + std::to_string(n) +
-                " vertices");
+    throw Error(path.string() + ": " + std::to_string(row) + " vertex lines for a mesh of " +
+                std::to_string(n) + " vertices");
   return W;
 }
 
@@ -176,19 +185,20 @@ SkinDeformer SkinDeformer::bind(const Mesh& rest, std::span<const Bone> bones, c
     for (Eigen::Index j = 0; j < W.cols(); ++j)
       if (W(i, j) != 0.0) rows[i].emplace_back(static_cast<int>(j), W(i, j));
   if (W.cols() != static_cast<Eigen::Index>(bones.size()))
-    throw Error("SkinDeformer: " + std::to_string(W.cols()) + " weight columns for " + std::to_string(bones.size()) +
-                " bones");
+    throw Error("SkinDeformer: " + std::to_string(W.cols()) + " weight columns for " +
+                std::to_string(bones.size()) + " bones");
   if (W.rows() != rest.V.rows())
-    throw Error("SkinDeformer: " + std::to_string(W.rows()) + " weight rows for " + std::to_string(rest.V.rows()) +
-                " vertices");
+    throw Error("SkinDeformer: " + std::to_string(W.rows()) + " weight rows for " +
+                std::to_string(rest.V.rows()) + " vertices");
   return bind_rows(rest, bones, std::move(rows), options);
 }
 
-SkinDeformer SkinDeformer::bind(const Mesh& rest, std::span<const Bone> bones, const Eigen::SparseMatrix<double>& W,
-                                const Options& options) {
+SkinDeformer SkinDeformer::bind(const Mesh& rest, std::span<const Bone> bones,
+                                const Eigen::SparseMatrix<double>& W, const Options& options) {
   if (W.cols() != static_cast<Eigen::Index>(bones.size()) || W.rows() != rest.V.rows())
-    throw Error("SkinDeformer: weights are " + std::to_string(W.rows()) + "×" + std::to_string(W.cols()) + " for " +
-                std::to_string(rest.V.rows()) + " vertices and " + std::to_string(bones.size()) + " bones");
+    throw Error("SkinDeformer: weights are " + std::to_string(W.rows()) + "×" + std::to_string(W.cols()) +
+                " for " + std::to_string(rest.V.rows()) + " vertices and " + std::to_string(bones.size()) +
+                " bones");
   std::vector<std::vector<std::pair<int, double>>> rows(W.rows());
   for (Eigen::Index j = 0; j < W.outerSize(); ++j)
     for (Eigen::SparseMatrix<double>::InnerIterator it(W, j); it; ++it)
@@ -198,7 +208,8 @@ SkinDeformer SkinDeformer::bind(const Mesh& rest, std::span<const Bone> bones, c
 }
 
 SkinDeformer SkinDeformer::bind_rows(const Mesh& rest, std::span<const Bone> bones,
-                                     std::vector<std::vector<std::pair<int, double>>> rows, const Options& options) {
+                                     std::vector<std::vector<std::pair<int, double>>> rows,
+                                     const Options& options) {
   check_skeleton(bones);
   const Eigen::Index n = rest.V.rows();
   SkinDeformer d;
@@ -207,7 +218,8 @@ SkinDeformer SkinDeformer::bind_rows(const Mesh& rest, std::span<const Bone> bon
   d.P_ = rest.V;
   d.inf_.resize(n);
   for (Eigen::Index i = 0; i < n; ++i) {
-    if (!rest.V.row(i).allFinite()) throw Error("SkinDeformer: vertex " + std::to_string(i) + " is not finite");
+    if (!rest.V.row(i).allFinite())
+      throw Error("SkinDeformer: vertex " + std::to_string(i) + " is not finite");
     auto& r = rows[i];
     for (const auto& [j, w] : r)
       if (!std::isfinite(w) || w < 0.0)
@@ -218,7 +230,8 @@ SkinDeformer SkinDeformer::bind_rows(const Mesh& rest, std::span<const Bone> bon
     if (r.size() > 4) r.resize(4);
     double sum = 0.0;
     for (const auto& e : r) sum += e.second;
-    if (!(sum > 0.0)) throw Error("SkinDeformer: vertex " + std::to_string(i) + " has no positive bone weight");
+    if (!(sum > 0.0))
+      throw Error("SkinDeformer: vertex " + std::to_string(i) + " has no positive bone weight");
     for (std::size_t s = 0; s < r.size(); ++s) {
       d.inf_[i].bone[s] = r[s].first;
       d.inf_[i].w[s] = r[s].second / sum;
@@ -237,7 +250,8 @@ SkinDeformer SkinDeformer::bind_rows(const Mesh& rest, std::span<const Bone> bon
 void SkinDeformer::prepare(std::span<const ga::Mot> frames) {
   const std::size_t B = bones_.size();
   if (frames.size() != B)
-    throw Error("SkinDeformer: " + std::to_string(frames.size()) + " bone frames for " + std::to_string(B) + " bones");
+    throw Error("SkinDeformer: " + std::to_string(frames.size()) + " bone frames for " + std::to_string(B) +
+                " bones");
   for (std::size_t j = 0; j < B; ++j)  // K_j = F_j ~F_j^0
     motions_[j] = ga::normalize(unit_frame(frames[j], bones_[j].name) * ga::reverse(bones_[j].rest));
   switch (options_.blend) {
@@ -250,13 +264,15 @@ void SkinDeformer::prepare(std::span<const ga::Mot> frames) {
     case Blend::PivotLog:
       for (std::size_t p = 0; p < B; ++p) {
         const ga::Mot inv = ga::reverse(motions_[p]);
-        for (std::size_t j = 0; j < B; ++j) logs_[p * B + j] = j == p ? ga::Dll{} : ga::log(motions_[j] * inv);
+        for (std::size_t j = 0; j < B; ++j)
+          logs_[p * B + j] = j == p ? ga::Dll{} : ga::log(motions_[j] * inv);
       }
       break;
     case Blend::Linear:
       for (std::size_t p = 0; p < B; ++p) {
         const ga::Mot rp = ga::reverse(motions_[p]);
-        for (std::size_t j = 0; j < B; ++j) signs_[p * B + j] = std::signbit(ga::scalar(motions_[j], rp)) ? -1.0 : 1.0;
+        for (std::size_t j = 0; j < B; ++j)
+          signs_[p * B + j] = std::signbit(ga::scalar(motions_[j], rp)) ? -1.0 : 1.0;
       }
       break;
   }
@@ -285,18 +301,22 @@ void SkinDeformer::pose(std::span<const ga::Mot> frames, Eigen::MatrixXd& V_out)
       const ga::Mot* K = motions_.data();
       const double* S = signs_.data();
       bool cancelled = false;
-#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend)) reduction(|| : cancelled)
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend)) \
+    reduction(||                                                                         \
+              : cancelled)
       for (Eigen::Index i = 0; i < n; ++i) {
         const Influence& f = inf[i];
         const double* sp = S + static_cast<Eigen::Index>(f.bone[0]) * B;
         using A8 = Eigen::Array<double, 8, 1>;  // one motor per 8-lane register
         A8 sum = f.w[0] * Eigen::Map<const A8>(K[f.bone[0]].data());
-        for (int s = 1; s < 4; ++s) sum += (sp[f.bone[s]] * f.w[s]) * Eigen::Map<const A8>(K[f.bone[s]].data());
+        for (int s = 1; s < 4; ++s)
+          sum += (sp[f.bone[s]] * f.w[s]) * Eigen::Map<const A8>(K[f.bone[s]].data());
         const Eigen::Vector3d q = detail::dlb_point(sum.data(), Eigen::Vector3d(P(i, 0), P(i, 1), P(i, 2)));
         cancelled = cancelled || !q.allFinite();
         V_out(i, 0) = q.x(), V_out(i, 1) = q.y(), V_out(i, 2) = q.z();
       }
-      if (cancelled) throw numerical_error("SkinDeformer: the linear blend of the bone motors cancels at a vertex");
+      if (cancelled)
+        throw numerical_error("SkinDeformer: the linear blend of the bone motors cancels at a vertex");
       break;
     }
     case Blend::Log:
@@ -332,7 +352,8 @@ Eigen::SparseMatrix<double> SkinDeformer::weights() const {
 }
 
 ga::Mot SkinDeformer::vertex_motor(Eigen::Index i, std::span<const ga::Mot> frames) const {
-  if (i < 0 || i >= vertices()) throw Error("SkinDeformer::vertex_motor: vertex " + std::to_string(i) + " out of range");
+  if (i < 0 || i >= vertices())
+    throw Error("SkinDeformer::vertex_motor: vertex " + std::to_string(i) + " out of range");
   if (frames.size() != bones_.size()) throw Error("SkinDeformer::vertex_motor: wrong frame count");
   std::vector<ga::Mot> m;
   std::vector<double> w;

@@ -35,10 +35,11 @@ void check_spline(SplineBasis basis, int keys, int degree) {
       if (keys != 3) throw Error(who + "needs exactly 3 keys, got " + std::to_string(keys));
       return;
     case SplineBasis::BSpline:
-      if (degree < 1 || degree > 15) throw Error(who + "degree must be in [1, 15], got " + std::to_string(degree));
+      if (degree < 1 || degree > 15)
+        throw Error(who + "degree must be in [1, 15], got " + std::to_string(degree));
       if (keys < degree + 1)
-        throw Error(who + "degree " + std::to_string(degree) + " needs at least " + std::to_string(degree + 1) +
-                    " keys, got " + std::to_string(keys));
+        throw Error(who + "degree " + std::to_string(degree) + " needs at least " +
+                    std::to_string(degree + 1) + " keys, got " + std::to_string(keys));
       return;
   }
 }

@@ -5,10 +5,12 @@
 
 namespace spinmotor {
 
-SplineDeformer SplineDeformer::bind(const Mesh& rest, std::span<const Handle> handles, const Options& options) {
+SplineDeformer SplineDeformer::bind(const Mesh& rest, std::span<const Handle> handles,
+                                    const Options& options) {
   check_spline(options.basis, options.keys, options.degree);
   if (handles.size() != 2)
-    throw Error("SplineDeformer: needs exactly two handles {from, to}, got " + std::to_string(handles.size()));
+    throw Error("SplineDeformer: needs exactly two handles {from, to}, got " +
+                std::to_string(handles.size()));
   SplineDeformer d;
   d.options_ = options;
   // §III: the parameter λ is harmonic, 0 on `from` and 1 on `to` (§VIII).

@@ -9,7 +9,8 @@ namespace spinmotor {
 
 SplineIkDeformer SplineIkDeformer::bind(const Mesh& rest, const Rig& rig, const Options& options) {
   if (rig.handles.size() != 2)
-    throw Error("SplineIkDeformer: needs exactly two handles {from, to}, got " + std::to_string(rig.handles.size()));
+    throw Error("SplineIkDeformer: needs exactly two handles {from, to}, got " +
+                std::to_string(rig.handles.size()));
   if (!rig.ik) throw Error("SplineIkDeformer: the rig has no ik chain");
   if (rig.ik->chain.rows() < 2 || rig.ik->chain.cols() != 3 || !rig.ik->chain.allFinite())
     throw Error("SplineIkDeformer: the ik chain must be k×3 finite joint positions with k ≥ 2");
@@ -35,8 +36,9 @@ SplineIkDeformer SplineIkDeformer::bind(const Mesh& rest, const Rig& rig, const 
 void SplineIkDeformer::solve(const Eigen::Vector3d& target) {
   // Into locals first: a failed solve (a degenerate solved chain) leaves the last good one in place.
   const auto t0 = std::chrono::steady_clock::now();
-  FabrikResult ik = fabrik(options_.warm_start && start_.size() ? start_ : ik_.chain, target,
-                           {.tolerance = ik_.tolerance, .max_iterations = ik_.iterations, .end_rotation = ik_.orientation});
+  FabrikResult ik =
+      fabrik(options_.warm_start && start_.size() ? start_ : ik_.chain, target,
+             {.tolerance = ik_.tolerance, .max_iterations = ik_.iterations, .end_rotation = ik_.orientation});
   const double fabrik_ms = ms_since(t0);
   const auto t1 = std::chrono::steady_clock::now();
   ChainFit fit = fit_chain(V_rest_, spline_.parameter(), ik_.chain, ik.joints,

@@ -1,5 +1,4 @@
 #include "spinmotor/linalg/cholesky_solver.hpp"
-#include "spinmotor/linalg/blas_threads.hpp"
 
 #include <cholmod.h>
 
@@ -9,6 +8,7 @@
 
 #include "solver_detail.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/linalg/blas_threads.hpp"
 
 namespace spinmotor {
 namespace {
@@ -103,11 +103,16 @@ void CholeskySolver::analyze(const Eigen::SparseMatrix<double>& A) {
   if (m.n == 0) return;  // nothing to factor; solve() returns 0×k
   m.common.method[0].ordering = [&] {
     switch (m.options.ordering) {
-      case Ordering::Auto: return m.n < kAutoMetisRows ? CHOLMOD_AMD : CHOLMOD_METIS;
-      case Ordering::Natural: return CHOLMOD_NATURAL;
-      case Ordering::AMD: return CHOLMOD_AMD;
-      case Ordering::METIS: return CHOLMOD_METIS;
-      case Ordering::NESDIS: return CHOLMOD_NESDIS;
+      case Ordering::Auto:
+        return m.n < kAutoMetisRows ? CHOLMOD_AMD : CHOLMOD_METIS;
+      case Ordering::Natural:
+        return CHOLMOD_NATURAL;
+      case Ordering::AMD:
+        return CHOLMOD_AMD;
+      case Ordering::METIS:
+        return CHOLMOD_METIS;
+      case Ordering::NESDIS:
+        return CHOLMOD_NESDIS;
     }
     return CHOLMOD_AMD;
   }();
@@ -122,8 +127,9 @@ void CholeskySolver::factorize(const Eigen::SparseMatrix<double>& A) {
   detail::check_square_finite(A, "CholeskySolver");
   if (A.rows() != m.n || detail::pattern_hash(A) != m.pattern) {
     std::ostringstream s;
-    s << "CholeskySolver: factorize() got a " << A.rows() << "x" << A.cols() << " matrix with " << A.nonZeros()
-      << " nonzeros whose pattern differs from the analyzed one (" << m.n << " rows): call compute()";
+    s << "CholeskySolver: factorize() got a " << A.rows() << "x" << A.cols() << " matrix with "
+      << A.nonZeros() << " nonzeros whose pattern differs from the analyzed one (" << m.n
+      << " rows): call compute()";
     throw Error(s.str());
   }
   m.factorized = false;

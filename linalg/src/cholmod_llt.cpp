@@ -1,7 +1,5 @@
 #include "spinmotor/linalg/cholmod_llt.hpp"
 
-#include "spinmotor/linalg/blas_threads.hpp"
-
 #include <cholmod.h>
 
 #include <limits>
@@ -9,6 +7,7 @@
 #include <type_traits>
 
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/linalg/blas_threads.hpp"
 
 namespace spinmotor::detail {
 
@@ -28,7 +27,9 @@ struct CholmodLLT<Scalar>::Impl {
     c.print = 0;
     c.error_handler = nullptr;
     c.nmethods = 1;
-    c.method[0].ordering = o == Ordering::Natural ? CHOLMOD_NATURAL : o == Ordering::AMD ? CHOLMOD_AMD : CHOLMOD_METIS;
+    c.method[0].ordering = o == Ordering::Natural ? CHOLMOD_NATURAL
+                           : o == Ordering::AMD   ? CHOLMOD_AMD
+                                                  : CHOLMOD_METIS;
     c.postorder = 1;
     c.supernodal = supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
     c.final_ll = 1;  // simplicial: LLᴴ too, so that a non-positive pivot is reported
@@ -89,15 +90,16 @@ template <class Scalar>
 void CholmodLLT<Scalar>::factorize(const Eigen::SparseMatrix<Scalar>& A) {
   Impl& m = *impl_;
   if (!m.L) throw Error("CholmodLLT: factorize() before analyze()");
-  if (A.rows() != m.n || A.nonZeros() != m.nnz) throw Error("CholmodLLT: the pattern differs from the analyzed one");
+  if (A.rows() != m.n || A.nonZeros() != m.nnz)
+    throw Error("CholmodLLT: the pattern differs from the analyzed one");
   m.factorized = false;
   cholmod_sparse s = Impl::view(A);
   cholmod_factorize(&s, m.L, &m.c);
   m.status("factorize");
   if (m.c.status == CHOLMOD_NOT_POSDEF || m.L->minor < m.L->n) {
     std::ostringstream msg;
-    msg << "CholmodLLT: matrix is not positive definite (CHOLMOD: leading minor " << m.L->minor << " of " << m.L->n
-        << ")";
+    msg << "CholmodLLT: matrix is not positive definite (CHOLMOD: leading minor " << m.L->minor << " of "
+        << m.L->n << ")";
     throw numerical_error(msg.str());
   }
   const double rc = cholmod_rcond(m.L, &m.c);

@@ -27,7 +27,8 @@ DirichletSolver::~DirichletSolver() = default;
 DirichletSolver::DirichletSolver(DirichletSolver&&) noexcept = default;
 DirichletSolver& DirichletSolver::operator=(DirichletSolver&&) noexcept = default;
 
-void DirichletSolver::bind(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXi& constrained, Kind kind) {
+void DirichletSolver::bind(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXi& constrained,
+                           Kind kind) {
   Impl& m = *impl_;
   m.n = -1;
   m.cholesky.reset();
@@ -111,7 +112,9 @@ void DirichletSolver::bind(const Eigen::SparseMatrix<double>& A, const Eigen::Ve
     m.lu.reset();
     // The solver names rows of A_FF: translate to the caller's indexing in the message.
     throw Error(std::string("DirichletSolver: factorizing the free block A_FF failed (free row r is vertex "
-                            "free()[r]): ") + e.what(), e.kind());
+                            "free()[r]): ") +
+                    e.what(),
+                e.kind());
   }
   m.n = n;
 }
@@ -123,15 +126,15 @@ Eigen::MatrixXd DirichletSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& 
   const Eigen::Index nc = m.constrained.size(), k = values.cols();
   if (values.rows() != nc) {
     std::ostringstream s;
-    s << "DirichletSolver: values have " << values.rows() << " rows, expected one per constrained vertex (" << nc
-      << ")";
+    s << "DirichletSolver: values have " << values.rows() << " rows, expected one per constrained vertex ("
+      << nc << ")";
     throw Error(s.str());
   }
   const bool zero_rhs = B.size() == 0;
   if (!zero_rhs && (B.rows() != m.n || B.cols() != k)) {
     std::ostringstream s;
-    s << "DirichletSolver: right-hand side is " << B.rows() << "x" << B.cols() << ", expected " << m.n << "x" << k
-      << " (or empty for B = 0)";
+    s << "DirichletSolver: right-hand side is " << B.rows() << "x" << B.cols() << ", expected " << m.n << "x"
+      << k << " (or empty for B = 0)";
     throw Error(s.str());
   }
   if (!values.allFinite()) throw Error("DirichletSolver: constrained values are not finite");

@@ -32,10 +32,14 @@ struct LUSolver::Impl {
     set_default_options(&slu);
     slu.ColPerm = [&] {
       switch (o.ordering) {
-        case Ordering::Natural: return NATURAL;
-        case Ordering::COLAMD: return COLAMD;
-        case Ordering::MMD_AtA: return MMD_ATA;
-        case Ordering::MMD_AtPlusA: return MMD_AT_PLUS_A;
+        case Ordering::Natural:
+          return NATURAL;
+        case Ordering::COLAMD:
+          return COLAMD;
+        case Ordering::MMD_AtA:
+          return MMD_ATA;
+        case Ordering::MMD_AtPlusA:
+          return MMD_AT_PLUS_A;
       }
       return COLAMD;
     }();
@@ -65,21 +69,26 @@ struct LUSolver::Impl {
 
   int superlu_ispec() const {
     switch (options.ordering) {
-      case Ordering::Natural: return 0;
-      case Ordering::MMD_AtA: return 1;
-      case Ordering::MMD_AtPlusA: return 2;
-      case Ordering::COLAMD: return 3;
+      case Ordering::Natural:
+        return 0;
+      case Ordering::MMD_AtA:
+        return 1;
+      case Ordering::MMD_AtPlusA:
+        return 2;
+      case Ordering::COLAMD:
+        return 3;
     }
     return 3;
   }
 
-  [[noreturn]] void throw_singular(const Eigen::SparseMatrix<double>& A, int col, const std::string& why) const {
+  [[noreturn]] void throw_singular(const Eigen::SparseMatrix<double>& A, int col,
+                                   const std::string& why) const {
     const detail::GraphComponents g = detail::matrix_components(A);
     std::ostringstream s;
     s << "LUSolver: matrix is singular (" << why;
     if (col >= 0 && col < static_cast<int>(A.rows()))
-      s << "; column " << col << ", in " << detail::describe_component(g, g.label[col], "row", "rows") << " of "
-        << g.count() << " of the matrix graph";
+      s << "; column " << col << ", in " << detail::describe_component(g, g.label[col], "row", "rows")
+        << " of " << g.count() << " of the matrix graph";
     s << ")";
     throw numerical_error(s.str());
   }
@@ -110,7 +119,8 @@ void LUSolver::analyze(const Eigen::SparseMatrix<double>& A) {
   if (const int col = detail::structurally_singular_column(A); col >= 0) {
     std::ostringstream why;
     why << "structurally singular, column " << col
-        << (A.outerIndexPtr()[col] == A.outerIndexPtr()[col + 1] ? " is empty" : " cannot be given a pivot row");
+        << (A.outerIndexPtr()[col] == A.outerIndexPtr()[col + 1] ? " is empty"
+                                                                 : " cannot be given a pivot row");
     m.throw_singular(A, col, why.str());
   }
   if (m.n > 0) {
@@ -146,8 +156,8 @@ void LUSolver::factorize(const Eigen::SparseMatrix<double>& A) {
   SuperLUStat_t stat;
   StatInit(&stat);
   int info = 0;
-  dgstrf(&m.slu, &AC, sp_ienv(2), sp_ienv(1), m.etree.data(), nullptr, 0, m.perm_c.data(), m.perm_r.data(), &m.L,
-         &m.U, &m.glu, &stat, &info);
+  dgstrf(&m.slu, &AC, sp_ienv(2), sp_ienv(1), m.etree.data(), nullptr, 0, m.perm_c.data(), m.perm_r.data(),
+         &m.L, &m.U, &m.glu, &stat, &info);
   Destroy_CompCol_Permuted(&AC);
   if (info > 0 && info <= n) {  // U(info−1, info−1) is exactly zero
     StatFree(&stat);

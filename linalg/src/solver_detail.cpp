@@ -13,14 +13,17 @@ void check_square_finite(const Eigen::SparseMatrix<double>& A, const char* who) 
     s << who << ": matrix must be square, got " << A.rows() << "x" << A.cols();
     throw Error(s.str());
   }
-  if (!A.isCompressed()) throw Error(std::string(who) + ": matrix must be compressed (call makeCompressed())");
+  if (!A.isCompressed())
+    throw Error(std::string(who) + ": matrix must be compressed (call makeCompressed())");
   const double* v = A.valuePtr();
   for (Eigen::Index k = 0; k < A.nonZeros(); ++k)
     if (!std::isfinite(v[k])) {
       const auto* outer = A.outerIndexPtr();
-      const Eigen::Index col = std::upper_bound(outer, outer + A.outerSize() + 1, static_cast<int>(k)) - outer - 1;
+      const Eigen::Index col =
+          std::upper_bound(outer, outer + A.outerSize() + 1, static_cast<int>(k)) - outer - 1;
       std::ostringstream s;
-      s << who << ": matrix entry (" << A.innerIndexPtr()[k] << ", " << col << ") is not finite (" << v[k] << ")";
+      s << who << ": matrix entry (" << A.innerIndexPtr()[k] << ", " << col << ") is not finite (" << v[k]
+        << ")";
       throw Error(s.str());
     }
 }
@@ -61,8 +64,8 @@ GraphComponents matrix_components(const Eigen::SparseMatrix<double>& A) {
 
 std::string describe_component(const GraphComponents& g, int c, const char* noun, const char* plural) {
   std::ostringstream s;
-  s << "connected component " << c << " (" << g.size[c] << " " << (g.size[c] == 1 ? noun : plural) << ", e.g. "
-    << noun << " " << g.first[c] << ")";
+  s << "connected component " << c << " (" << g.size[c] << " " << (g.size[c] == 1 ? noun : plural)
+    << ", e.g. " << noun << " " << g.first[c] << ")";
   return s.str();
 }
 

@@ -11,9 +11,8 @@ using detail::FaceFrame;
 Eigen::VectorXd face_areas(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
   detail::check_mesh(V, F, "face_areas");
   Eigen::VectorXd A(F.rows());
-  detail::for_each_face(V, F, false, "face_areas", [&](Eigen::Index f, const FaceFrame& fr) {
-    A[f] = 0.5 * fr.dbl_area;
-  });
+  detail::for_each_face(V, F, false, "face_areas",
+                        [&](Eigen::Index f, const FaceFrame& fr) { A[f] = 0.5 * fr.dbl_area; });
   return A;
 }
 

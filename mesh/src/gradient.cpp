@@ -11,7 +11,8 @@ using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
 // Row-major 3m×n gradient, each row scaled by `area_weight ? A_f : 1`. Row 3f+k holds the k-th
 // coordinate of ∇φ for the three corners of f, columns sorted.
-RowSparse gradient_rows(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, bool area_weight, const char* who) {
+RowSparse gradient_rows(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, bool area_weight,
+                        const char* who) {
   detail::check_mesh(V, F, who);
   const Eigen::Index m = F.rows(), n = V.rows();
   RowSparse G(3 * m, n);

@@ -53,7 +53,8 @@ Eigen::SparseMatrix<double> mass_matrix(const Eigen::MatrixXd& V, const Eigen::M
   return M;
 }
 
-Eigen::VectorXd barycentric_vertex_areas(const Eigen::MatrixXi& F, const Eigen::VectorXd& face_area, Eigen::Index n) {
+Eigen::VectorXd barycentric_vertex_areas(const Eigen::MatrixXi& F, const Eigen::VectorXd& face_area,
+                                         Eigen::Index n) {
   Eigen::VectorXd w = Eigen::VectorXd::Zero(n);
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     for (int c = 0; c < 3; ++c) w[F(f, c)] += face_area[f] / 3.0;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+
 #include "spinmotor/core/parallel.hpp"
 
 namespace spinmotor::detail {
@@ -36,8 +37,8 @@ void check_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const char* 
   }
   if (bad_v < n) {
     std::ostringstream s;
-    s << who << ": vertex " << bad_v << " has a non-finite coordinate (" << V(bad_v, 0) << ", "
-      << V(bad_v, 1) << ", " << V(bad_v, 2) << ")";
+    s << who << ": vertex " << bad_v << " has a non-finite coordinate (" << V(bad_v, 0) << ", " << V(bad_v, 1)
+      << ", " << V(bad_v, 2) << ")";
     throw Error(s.str());
   }
 }

@@ -13,7 +13,6 @@
 
 namespace spinmotor::detail {
 
-
 /// Throws Error (prefixed with `who`) unless V is n×3 and finite and F is m×3 with indices in [0, n).
 void check_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const char* who);
 

@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <numeric>
+
 #include "union_find.hpp"
 
 namespace spinmotor {
@@ -58,7 +59,8 @@ EdgeTopology edge_topology(const Eigen::MatrixXi& F) {
   edge_offset.push_back(static_cast<int>(3 * m));
   t.E.resize(static_cast<Eigen::Index>(e0.size()), 2);
   for (size_t e = 0; e < e0.size(); ++e) t.E.row(static_cast<Eigen::Index>(e)) << e0[e], e1[e];
-  t.EF_offset = Eigen::Map<Eigen::VectorXi>(edge_offset.data(), static_cast<Eigen::Index>(edge_offset.size()));
+  t.EF_offset =
+      Eigen::Map<Eigen::VectorXi>(edge_offset.data(), static_cast<Eigen::Index>(edge_offset.size()));
   return t;
 }
 

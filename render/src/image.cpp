@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <string>
 
-#include "spinmotor/core/error.hpp"
 #include "spinmotor/core/atomic_file.hpp"
+#include "spinmotor/core/error.hpp"
 
 // stb_image_write and stb_easy_font, private to this translation unit.
 #define STB_IMAGE_WRITE_STATIC

@@ -7,10 +7,10 @@
 #include <vector>
 
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/stopwatch.hpp"
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
 #include "spinmotor/render/framebuffer.hpp"
 #include "spinmotor/render/offscreen_context.hpp"
-#include "spinmotor/core/stopwatch.hpp"
 
 namespace spinmotor::render {
 namespace {

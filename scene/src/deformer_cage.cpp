@@ -1,11 +1,12 @@
 // Scene deformer "cage": CageDeformer (CGA paper §VI), one motor per cage vertex, named "cage[j]".
-//   {"type": "cage", "cage": "cage.obj" | {"box": {"margin": m}}, "coordinates": "harmonic" | "mean-value", "grid": g,
+//   {"type": "cage", "cage": "cage.obj" | {"box": {"margin": m}}, "coordinates": "harmonic" | "mean-value",
+//   "grid": g,
 //    "mode": "motor" | "position", "blend": "log" | "pivot-log" | "dlb"}
-// Defaults: CageDeformer::Options (harmonic, grid 64, motor, log). The cage path is relative to the scene file. A cage that is not
-// closed and consistently oriented, or a mesh vertex outside it, is an error naming it (exit 2).
-// Metrics gain "cage": vertices, coordinates, the interpolation bound of harmonic coordinates.
-#include "spinmotor/deform/cage_deformer.hpp"
+// Defaults: CageDeformer::Options (harmonic, grid 64, motor, log). The cage path is relative to the scene
+// file. A cage that is not closed and consistently oriented, or a mesh vertex outside it, is an error naming
+// it (exit 2). Metrics gain "cage": vertices, coordinates, the interpolation bound of harmonic coordinates.
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/deform/cage_deformer.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/scene/deformer_registry.hpp"
 
@@ -56,10 +57,12 @@ std::unique_ptr<SceneDeformer> bind_cage(const Scene& s) {
     }
   }
   try {
-    auto report = [](const AnyDeformer& any, std::span<const ga::Mot>, const Eigen::MatrixXd&) -> nlohmann::json {
+    auto report = [](const AnyDeformer& any, std::span<const ga::Mot>,
+                     const Eigen::MatrixXd&) -> nlohmann::json {
       const CageDeformer& d = *any.get<CageDeformer>();
       const bool hc = d.options().coordinates == CageDeformer::Coordinates::Harmonic;
-      nlohmann::json c = {{"vertices", d.controls().size()}, {"coordinates", option_name(d.options().coordinates)}};
+      nlohmann::json c = {{"vertices", d.controls().size()},
+                          {"coordinates", option_name(d.options().coordinates)}};
       if (hc) c["grid"] = d.options().grid, c["interpolation_bound"] = d.interpolation_bound();
       return {{"max_handle_error", nullptr}, {"cage", c}};
     };

@@ -35,8 +35,8 @@ std::unique_ptr<SceneDeformer> bind_deformer(const Scene& scene) {
                                           "' is not available in this build (available: " + available + ")");
 }
 
-SceneDeformer::SceneDeformer(const Scene& scene, AnyDeformer deformer, Report report, nlohmann::json bind_report,
-                             Motors motors)
+SceneDeformer::SceneDeformer(const Scene& scene, AnyDeformer deformer, Report report,
+                             nlohmann::json bind_report, Motors motors)
     : scene_(scene),
       d_(std::move(deformer)),
       report_(std::move(report)),
@@ -91,8 +91,8 @@ nlohmann::json SceneDeformer::report(const Pose& pose, const Eigen::MatrixXd& V_
 
 nlohmann::json SceneDeformer::bind_report() const { return bind_report_; }
 
-double max_handle_error(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V, std::span<const Handle> handles,
-                        std::span<const ga::Mot> motors) {
+double max_handle_error(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V,
+                        std::span<const Handle> handles, std::span<const ga::Mot> motors) {
   double e = 0.0;
   for (std::size_t j = 0; j < handles.size(); ++j)
     for (Eigen::Index k = 0; k < handles[j].vertices.size(); ++k) {

@@ -4,21 +4,22 @@
 // Defaults: harmonic weights (bone_harmonic_weights with joint_fraction, default 0.25), the blend of
 // SkinDeformer::Options (dlb). A pose entry
 // is the world-space motion of its bone; a bone without an entry keeps its parent's (docs/scene.md).
-// Weight files (relative to the scene file): "*.json" is docs/scene.md's {"bones": [names], "weights": [[w per
-// bone] per vertex]} (errors name the file and the JSON pointer); any other extension is the text format
+// Weight files (relative to the scene file): "*.json" is docs/scene.md's {"bones": [names], "weights": [[w
+// per bone] per vertex]} (errors name the file and the JSON pointer); any other extension is the text format
 // of read_skin_weights (errors name file:line).
 #include <fstream>
 #include <map>
 
-#include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/scene/deformer_registry.hpp"
 
 namespace spinmotor::scene {
 
 namespace {
 
-Eigen::MatrixXd read_json_weights(const Scene& s, const std::filesystem::path& path, const std::vector<Bone>& bones) {
+Eigen::MatrixXd read_json_weights(const Scene& s, const std::filesystem::path& path,
+                                  const std::vector<Bone>& bones) {
   const std::string who = path.string();
   std::ifstream in(path);
   if (!in) throw s.error("/deformer/weights", who + ": cannot open the weight file");
@@ -28,8 +29,11 @@ Eigen::MatrixXd read_json_weights(const Scene& s, const std::filesystem::path& p
   } catch (const nlohmann::json::parse_error& e) {
     throw s.error("/deformer/weights", who + ": " + e.what());
   }
-  auto fail = [&](const std::string& ptr, const std::string& msg) { throw s.error("/deformer/weights", who + ": " + ptr + ": " + msg); };
-  if (!j.is_object() || !j.contains("bones") || !j.contains("weights") || !j["bones"].is_array() || !j["weights"].is_array())
+  auto fail = [&](const std::string& ptr, const std::string& msg) {
+    throw s.error("/deformer/weights", who + ": " + ptr + ": " + msg);
+  };
+  if (!j.is_object() || !j.contains("bones") || !j.contains("weights") || !j["bones"].is_array() ||
+      !j["weights"].is_array())
     fail("", "expected {\"bones\": [names], \"weights\": [[w per bone] per vertex]}");
   std::map<std::string, int> index;
   for (std::size_t b = 0; b < bones.size(); ++b) index[bones[b].name] = static_cast<int>(b);
@@ -48,14 +52,17 @@ Eigen::MatrixXd read_json_weights(const Scene& s, const std::filesystem::path& p
     if (!seen[b]) fail("/bones", "does not name bone '" + bones[b].name + "'");
   const Eigen::Index n = s.mesh.V.rows();
   if (static_cast<Eigen::Index>(j["weights"].size()) != n)
-    fail("/weights", std::to_string(j["weights"].size()) + " rows for a mesh of " + std::to_string(n) + " vertices");
+    fail("/weights",
+         std::to_string(j["weights"].size()) + " rows for a mesh of " + std::to_string(n) + " vertices");
   Eigen::MatrixXd W(n, bones.size());
   for (Eigen::Index i = 0; i < n; ++i) {
     const auto& row = j["weights"][i];
     const std::string ptr = "/weights/" + std::to_string(i);
-    if (!row.is_array() || row.size() != column.size()) fail(ptr, "expected " + std::to_string(column.size()) + " numbers");
+    if (!row.is_array() || row.size() != column.size())
+      fail(ptr, "expected " + std::to_string(column.size()) + " numbers");
     for (std::size_t c = 0; c < column.size(); ++c) {
-      if (!row[c].is_number() || row[c].get<double>() < 0.0) fail(ptr + "/" + std::to_string(c), "expected a number ≥ 0");
+      if (!row[c].is_number() || row[c].get<double>() < 0.0)
+        fail(ptr + "/" + std::to_string(c), "expected a number ≥ 0");
       W(i, column[c]) = row[c].get<double>();
     }
     if (!(W.row(i).sum() > 0.0)) fail(ptr, "vertex " + std::to_string(i) + " has no positive weight");
@@ -83,7 +90,8 @@ std::unique_ptr<SceneDeformer> bind_skin(const Scene& s) {
   for (std::size_t j = 0; j < jb.size(); ++j)
     if (jb[j].contains("parent") && !jb[j]["parent"].is_null()) {
       const std::string p = jb[j]["parent"].get<std::string>();
-      if (!index.count(p)) throw s.error("/skeleton/bones/" + std::to_string(j) + "/parent", "no bone named '" + p + "'");
+      if (!index.count(p))
+        throw s.error("/skeleton/bones/" + std::to_string(j) + "/parent", "no bone named '" + p + "'");
       bones[j].parent = index[p];
     }
   try {
@@ -109,13 +117,15 @@ std::unique_ptr<SceneDeformer> bind_skin(const Scene& s) {
       std::vector<ga::Mot> given(bones.size(), ga::Mot(1, 0, 0, 0, 0, 0, 0, 0));
       std::vector<bool> has(bones.size(), false);
       for (std::size_t j = 0; j < bones.size(); ++j)
-        if (const auto it = pose.motors.find(bones[j].name); it != pose.motors.end()) given[j] = it->second, has[j] = true;
+        if (const auto it = pose.motors.find(bones[j].name); it != pose.motors.end())
+          given[j] = it->second, has[j] = true;
       out = inherit_bone_motions(bones, given, has);
     };
     auto report = [n = bones.size()](const AnyDeformer&, std::span<const ga::Mot>, const Eigen::MatrixXd&) {
       return nlohmann::json{{"max_handle_error", nullptr}, {"skin", {{"bones", n}}}};
     };
-    return std::make_unique<SceneDeformer>(s, SkinDeformer::bind(s.mesh, bones, W, o), report, nlohmann::json{}, motors);
+    return std::make_unique<SceneDeformer>(s, SkinDeformer::bind(s.mesh, bones, W, o), report,
+                                           nlohmann::json{}, motors);
   } catch (const Error& e) {
     const std::string msg = e.what();
     if (msg.rfind(s.name() + ":", 0) == 0) throw;

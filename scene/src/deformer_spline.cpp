@@ -39,7 +39,7 @@ Eigen::MatrixXd points(const json& a) {
 /// A spline posed once by a given posed joint chain (`fit.posed`): the fit is bind-time work and the
 /// deformer has no controls.
 class PosedChainSpline {
-public:
+ public:
   struct Options {
     SplineDeformer::Options spline{};
     Eigen::MatrixXd rest_chain{}, posed_chain{};
@@ -55,11 +55,13 @@ public:
   }
   const std::vector<Control>& controls() const { return controls_; }
   Eigen::Index vertices() const { return spline_.vertices(); }
-  void pose(std::span<const ga::Mot>, Eigen::MatrixXd& V_out) { spline_.pose_generators(fit_.fit.generators, V_out); }
+  void pose(std::span<const ga::Mot>, Eigen::MatrixXd& V_out) {
+    spline_.pose_generators(fit_.fit.generators, V_out);
+  }
   const ChainFit& chain_fit() const { return fit_; }
   double fit_ms() const { return fit_ms_; }
 
-private:
+ private:
   SplineDeformer spline_;
   ChainFit fit_;
   std::vector<Control> controls_;
@@ -71,8 +73,8 @@ json fit_report(const ChainFit& c, double fit_ms) {
           {"used_svd", c.fit.used_svd},
           {"rcond", c.fit.rcond},
           {"residual", c.fit.residual},
-          {"joint_parameters",
-           std::vector<double>(c.joint_parameters.data(), c.joint_parameters.data() + c.joint_parameters.size())},
+          {"joint_parameters", std::vector<double>(c.joint_parameters.data(),
+                                                   c.joint_parameters.data() + c.joint_parameters.size())},
           {"fit_ms", fit_ms}};
 }
 
@@ -118,7 +120,8 @@ std::unique_ptr<SceneDeformer> bind_spline(const Scene& s) {
   };
 
   if (!chain_mode) {
-    if (fit.size() > 0) throw s.error("/deformer/fit", "a fit needs a posed chain: an `ik` block or `fit.posed`");
+    if (fit.size() > 0)
+      throw s.error("/deformer/fit", "a fit needs a posed chain: an `ik` block or `fit.posed`");
     std::vector<std::string> keys = {from, to};  // no `keys`: the end handles' motors are the two keys
     if (b.contains("keys")) {
       keys = b["keys"].get<std::vector<std::string>>();
@@ -127,7 +130,8 @@ std::unique_ptr<SceneDeformer> bind_spline(const Scene& s) {
     }
     for (std::size_t i = 0; i < keys.size(); ++i)
       for (std::size_t j = 0; j < i; ++j)
-        if (keys[i] == keys[j]) throw s.error("/deformer/keys/" + std::to_string(i), "duplicate key name '" + keys[i] + "'");
+        if (keys[i] == keys[j])
+          throw s.error("/deformer/keys/" + std::to_string(i), "duplicate key name '" + keys[i] + "'");
     o.keys = static_cast<int>(keys.size());
     o.key_names = keys;
     try {
@@ -138,13 +142,15 @@ std::unique_ptr<SceneDeformer> bind_spline(const Scene& s) {
     auto report = [&s, ifrom, ito](const AnyDeformer&, std::span<const ga::Mot> m, const Eigen::MatrixXd& V) {
       return json{{"max_handle_error", end_handle_error(s, ifrom, ito, m.front(), m.back(), V)}};
     };
-    return std::make_unique<SceneDeformer>(s, bound([&] { return SplineDeformer::bind(s.mesh, rig, o); }), report);
+    return std::make_unique<SceneDeformer>(s, bound([&] { return SplineDeformer::bind(s.mesh, rig, o); }),
+                                           report);
   }
 
   // Chain mode (§III.C): joint motors → B-spline fit → control generators.
   if (o.basis != SplineBasis::BSpline)
     throw s.error("/deformer/basis", "fitting a joint chain (§III.C) needs the bspline basis");
-  if (b.contains("keys")) throw s.error("/deformer/keys", "the key motors come from the chain fit: remove `keys`");
+  if (b.contains("keys"))
+    throw s.error("/deformer/keys", "the key motors come from the chain fit: remove `keys`");
   Eigen::MatrixXd rest = s.ik ? s.ik->chain : Eigen::MatrixXd();
   if (s.ik) {
     if (fit.contains("chain") || fit.contains("posed"))
@@ -184,7 +190,8 @@ std::unique_ptr<SceneDeformer> bind_spline(const Scene& s) {
     json bind_report = {{"fit", fit_report(d.chain_fit(), d.fit_ms())},
                         {"posed_chain", to_json(d.fabrik_result().joints)},
                         {"ik_ms", d.fabrik_ms()}};
-    auto report = [&s, ifrom, ito](const AnyDeformer& any, std::span<const ga::Mot>, const Eigen::MatrixXd& V) {
+    auto report = [&s, ifrom, ito](const AnyDeformer& any, std::span<const ga::Mot>,
+                                   const Eigen::MatrixXd& V) {
       const SplineIkDeformer& ik = *any.get<SplineIkDeformer>();
       const auto& c = ik.chain_fit().fit.controls;
       const Eigen::Vector3d tip = handle_centroid(V, s.handles[ito]), t = ik.target();
@@ -204,8 +211,8 @@ std::unique_ptr<SceneDeformer> bind_spline(const Scene& s) {
 
   const Eigen::MatrixXd posed = points(fit["posed"]);
   if (posed.rows() != rest.rows())
-    throw s.error("/deformer/fit/posed",
-                  "has " + std::to_string(posed.rows()) + " joints, `chain` has " + std::to_string(rest.rows()));
+    throw s.error("/deformer/fit/posed", "has " + std::to_string(posed.rows()) + " joints, `chain` has " +
+                                             std::to_string(rest.rows()));
   PosedChainSpline d = [&] {
     try {
       return PosedChainSpline::bind(s.mesh, rig, {.spline = o, .rest_chain = rest, .posed_chain = posed});

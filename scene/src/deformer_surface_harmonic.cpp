@@ -21,8 +21,8 @@ std::unique_ptr<SceneDeformer> bind_surface_harmonic(const Scene& s) {
   o.weights = deformer_option(s, "weights", o.weights);
   o.blend = deformer_option(s, "blend", o.blend);
   try {
-    return std::make_unique<SceneDeformer>(s, SurfaceHarmonicDeformer::bind(s.mesh, Rig{.handles = s.handles}, o),
-                                           handle_report(s));
+    return std::make_unique<SceneDeformer>(
+        s, SurfaceHarmonicDeformer::bind(s.mesh, Rig{.handles = s.handles}, o), handle_report(s));
   } catch (const Error& e) {
     throw Error(s.name() + ": " + e.what(), e.kind());  // names the handle or the connected component
   }

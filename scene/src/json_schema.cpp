@@ -36,15 +36,37 @@ struct JsonSchema::Issue {
 namespace {
 
 const std::set<std::string>& supported_keywords() {
-  static const std::set<std::string> k = {
-      "type",    "const",    "enum",     "properties", "required",         "additionalProperties", "items",
-      "minItems", "maxItems", "minimum", "maximum",    "exclusiveMinimum", "exclusiveMaximum",     "minLength",
-      "oneOf",   "anyOf",    "$ref",     "definitions", "$defs",           "$schema",              "$id",
-      "title",   "description", "default", "$comment"};
+  static const std::set<std::string> k = {"type",
+                                          "const",
+                                          "enum",
+                                          "properties",
+                                          "required",
+                                          "additionalProperties",
+                                          "items",
+                                          "minItems",
+                                          "maxItems",
+                                          "minimum",
+                                          "maximum",
+                                          "exclusiveMinimum",
+                                          "exclusiveMaximum",
+                                          "minLength",
+                                          "oneOf",
+                                          "anyOf",
+                                          "$ref",
+                                          "definitions",
+                                          "$defs",
+                                          "$schema",
+                                          "$id",
+                                          "title",
+                                          "description",
+                                          "default",
+                                          "$comment"};
   return k;
 }
 
-int depth(const std::string& pointer) { return static_cast<int>(std::count(pointer.begin(), pointer.end(), '/')); }
+int depth(const std::string& pointer) {
+  return static_cast<int>(std::count(pointer.begin(), pointer.end(), '/'));
+}
 
 std::string type_name(const json& x) {
   switch (x.type()) {
@@ -127,7 +149,8 @@ void JsonSchema::lint(const json& s, const std::string& where) const {
 }
 
 const json& JsonSchema::resolve(const std::string& ref) const {
-  if (ref.rfind("#/", 0) != 0) throw Error("scene schema: unsupported $ref '" + ref + "' (only #/... pointers)");
+  if (ref.rfind("#/", 0) != 0)
+    throw Error("scene schema: unsupported $ref '" + ref + "' (only #/... pointers)");
   try {
     const json& target = root_.at(json::json_pointer(ref.substr(1)));
     return target;
@@ -182,15 +205,18 @@ void JsonSchema::check(const json& s, const json& x, const std::string& path, st
   }
   if (x.is_string()) {
     if (auto it = s.find("minLength"); it != s.end() && x.get<std::string>().size() < it->get<std::size_t>())
-      out.push_back({path, it->get<std::size_t>() == 1 ? std::string("must not be empty")
-                                                        : "must have at least " + it->dump() + " characters",
+      out.push_back({path,
+                     it->get<std::size_t>() == 1 ? std::string("must not be empty")
+                                                 : "must have at least " + it->dump() + " characters",
                      K::Value});
   }
   if (x.is_array()) {
     if (auto it = s.find("minItems"); it != s.end() && x.size() < it->get<std::size_t>())
-      out.push_back({path, "expected at least " + it->dump() + " items, got " + std::to_string(x.size()), K::Value});
+      out.push_back(
+          {path, "expected at least " + it->dump() + " items, got " + std::to_string(x.size()), K::Value});
     if (auto it = s.find("maxItems"); it != s.end() && x.size() > it->get<std::size_t>())
-      out.push_back({path, "expected at most " + it->dump() + " items, got " + std::to_string(x.size()), K::Value});
+      out.push_back(
+          {path, "expected at most " + it->dump() + " items, got " + std::to_string(x.size()), K::Value});
     if (auto it = s.find("items"); it != s.end())
       for (std::size_t i = 0; i < x.size(); ++i) check(*it, x[i], path + "/" + std::to_string(i), out);
   }
@@ -210,8 +236,9 @@ void JsonSchema::check(const json& s, const json& x, const std::string& path, st
           std::string allowed;
           if (props != s.end())
             for (const auto& [name, _] : props->items()) allowed += (allowed.empty() ? "" : ", ") + name;
-          out.push_back({at, "unknown key '" + key + "'" + (allowed.empty() ? "" : " (allowed here: " + allowed + ")"),
-                         K::Key});
+          out.push_back(
+              {at, "unknown key '" + key + "'" + (allowed.empty() ? "" : " (allowed here: " + allowed + ")"),
+               K::Key});
         } else {
           check(*extra, value, at, out);
         }

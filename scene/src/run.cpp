@@ -8,8 +8,8 @@
 #include <optional>
 #include <set>
 
-#include "spinmotor/core/error.hpp"
 #include "spinmotor/core/atomic_file.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/metrics.hpp"
 #include "spinmotor/mesh/metrics/json.hpp"
@@ -41,10 +41,11 @@ RunResult run_scene(const Scene& scene, const RunProgress& progress) {
       if (!known.count(name)) {
         std::string list;
         for (const auto& c : controls) list += (list.empty() ? "'" : ", '") + c + "'";
-        throw scene.error(p.entry_path(name), "no handle or control named '" + name + "' (" +
-                                                  (list.empty() ? std::string("this deformer takes no pose entries")
-                                                                : "this deformer's controls: " + list) +
-                                                  ")");
+        throw scene.error(p.entry_path(name),
+                          "no handle or control named '" + name + "' (" +
+                              (list.empty() ? std::string("this deformer takes no pose entries")
+                                            : "this deformer's controls: " + list) +
+                              ")");
       }
 
   const json bind_extra = d->bind_report();
@@ -58,7 +59,8 @@ RunResult run_scene(const Scene& scene, const RunProgress& progress) {
   if (scene.snap.enabled && scene.snap.mode == SnapMode::Pinned) {
     std::vector<int> pins;
     for (int h : scene.snap.pin_handles)
-      for (Eigen::Index k = 0; k < scene.handles[h].vertices.size(); ++k) pins.push_back(scene.handles[h].vertices[k]);
+      for (Eigen::Index k = 0; k < scene.handles[h].vertices.size(); ++k)
+        pins.push_back(scene.handles[h].vertices[k]);
     try {
       PinnedCleanupOptions o;
       o.keep = scene.snap.keep;
@@ -223,7 +225,8 @@ std::array<std::uint8_t, 3> q_colour(double q) {
   const int k = t < 0.5 ? 0 : 1;
   const double s = t < 0.5 ? 2 * t : 2 * t - 1;
   std::array<std::uint8_t, 3> rgb;
-  for (int i = 0; i < 3; ++i) rgb[i] = static_cast<std::uint8_t>(std::lround(c[k][i] + s * (c[k + 1][i] - c[k][i])));
+  for (int i = 0; i < 3; ++i)
+    rgb[i] = static_cast<std::uint8_t>(std::lround(c[k][i] + s * (c[k + 1][i] - c[k][i])));
   return rgb;
 }
 
@@ -238,7 +241,8 @@ void write_q_colors_ply(const std::filesystem::path& path, const Mesh& rest, con
   const Eigen::VectorXd Q = quasi_conformal_error(rest.V, rest.F, V);
   AtomicFile out(path);
   std::ostream& o = out.stream();
-  o << "ply\nformat binary_little_endian 1.0\ncomment spinmotor: per-face quasi-conformal error Q (blue 1, red >= 2)\n"
+  o << "ply\nformat binary_little_endian 1.0\ncomment spinmotor: per-face quasi-conformal error Q (blue 1, "
+       "red >= 2)\n"
     << "element vertex " << V.rows() << "\nproperty double x\nproperty double y\nproperty double z\n"
     << "element face " << rest.F.rows() << "\nproperty list uchar int vertex_indices\n"
     << "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty double quality\nend_header\n";

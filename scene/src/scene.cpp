@@ -71,7 +71,8 @@ const Handle& Scene::handle(const std::string& n, const std::string& pointer) co
     std::vector<std::string> names;
     for (const auto& h : handles) names.push_back("'" + h.name + "'");
     throw error(pointer, "no handle named '" + n + "'" +
-                             (names.empty() ? std::string(" (the scene has no handles)") : " (handles: " + join(names) + ")"));
+                             (names.empty() ? std::string(" (the scene has no handles)")
+                                            : " (handles: " + join(names) + ")"));
   }
   return handles[i];
 }
@@ -101,9 +102,11 @@ ga::Mot parse_motor(const json& j, const std::string& pointer, const std::string
     }
   }
   if (auto it = j.find("quaternion"); it != j.end()) {
-    Eigen::Vector4d q((*it)[0].get<double>(), (*it)[1].get<double>(), (*it)[2].get<double>(), (*it)[3].get<double>());
+    Eigen::Vector4d q((*it)[0].get<double>(), (*it)[1].get<double>(), (*it)[2].get<double>(),
+                      (*it)[3].get<double>());
     const double n = q.norm();
-    if (!(n > 0.0) || !std::isfinite(n)) throw fail("/quaternion", "must be a non-zero finite quaternion [w, x, y, z]");
+    if (!(n > 0.0) || !std::isfinite(n))
+      throw fail("/quaternion", "must be a non-zero finite quaternion [w, x, y, z]");
     q /= n;
     return ga::motor(ga::Rot(q[0], q[1], q[2], q[3]), ga::translator(t));
   }
@@ -112,7 +115,8 @@ ga::Mot parse_motor(const json& j, const std::string& pointer, const std::string
   if (auto it = j.find("rotate"); it != j.end()) {
     const Eigen::Vector3d axis = vec3((*it)["axis"]);
     const double degrees = (*it)["degrees"].get<double>();
-    if (!(axis.norm() > 0.0) || !axis.allFinite()) throw fail("/rotate/axis", "must be a non-zero finite vector");
+    if (!(axis.norm() > 0.0) || !axis.allFinite())
+      throw fail("/rotate/axis", "must be a non-zero finite vector");
     if (!std::isfinite(degrees)) throw fail("/rotate/degrees", "not finite");
     r = ga::rotor(axis, degrees * M_PI / 180.0);
     if (auto a = it->find("about"); a != it->end()) about = vec3(*a);
@@ -179,8 +183,9 @@ Handle select_handle(const Scene& s, const json& h, const std::string& at) {
     for (std::size_t k = 0; k < it->size(); ++k) {
       const long long i = (*it)[k].get<long long>();
       if (i >= n)
-        throw s.error(at + "/select/vertices/" + std::to_string(k),
-                      "vertex " + std::to_string(i) + " is out of range (the mesh has " + std::to_string(n) + " vertices)");
+        throw s.error(at + "/select/vertices/" + std::to_string(k), "vertex " + std::to_string(i) +
+                                                                        " is out of range (the mesh has " +
+                                                                        std::to_string(n) + " vertices)");
       v.push_back(static_cast<int>(i));
     }
     std::sort(v.begin(), v.end());
@@ -188,7 +193,8 @@ Handle select_handle(const Scene& s, const json& h, const std::string& at) {
   } else if (auto it = sel.find("box"); it != sel.end()) {
     const Eigen::Vector3d lo = vec3((*it)["min"]), hi = vec3((*it)["max"]);
     for (Eigen::Index i = 0; i < n; ++i)
-      if ((V.row(i).transpose().array() >= lo.array()).all() && (V.row(i).transpose().array() <= hi.array()).all())
+      if ((V.row(i).transpose().array() >= lo.array()).all() &&
+          (V.row(i).transpose().array() <= hi.array()).all())
         v.push_back(static_cast<int>(i));
   } else if (auto it = sel.find("sphere"); it != sel.end()) {
     const Eigen::Vector3d c = vec3((*it)["center"]);
@@ -199,8 +205,9 @@ Handle select_handle(const Scene& s, const json& h, const std::string& at) {
     const Eigen::Vector3d p = vec3((*it)["point"]), nn = vec3((*it)["normal"]);
     if (!(nn.norm() > 0.0)) throw s.error(at + "/select/plane/normal", "must be a non-zero vector");
     for (Eigen::Index i = 0; i < n; ++i)
-      if ((V.row(i).transpose() - p).dot(nn) >= 0.0) v.push_back(static_cast<int>(i));  // the side n points to
-  } else {  // all
+      if ((V.row(i).transpose() - p).dot(nn) >= 0.0)
+        v.push_back(static_cast<int>(i));  // the side n points to
+  } else {                                 // all
     v.resize(n);
     for (Eigen::Index i = 0; i < n; ++i) v[i] = static_cast<int>(i);
   }
@@ -233,7 +240,8 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
 
   // Mesh.
   s.mesh = make_mesh(s, doc["mesh"]);
-  s.mesh_source = doc["mesh"].is_string() ? doc["mesh"].get<std::string>() : doc["mesh"]["generate"].get<std::string>();
+  s.mesh_source =
+      doc["mesh"].is_string() ? doc["mesh"].get<std::string>() : doc["mesh"]["generate"].get<std::string>();
   try {
     require(s.mesh, {.finite = true}, "deform");
   } catch (const Error& e) {
@@ -251,8 +259,9 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
       for (Eigen::Index k = 0; k < handle.vertices.size(); ++k) {
         const int v = handle.vertices[k];
         if (owner[v] >= 0)
-          throw s.error(at, "handle '" + handle.name + "' shares vertex " + std::to_string(v) + " with handle '" +
-                                s.handles[owner[v]].name + "' (/handles/" + std::to_string(owner[v]) + ")");
+          throw s.error(at, "handle '" + handle.name + "' shares vertex " + std::to_string(v) +
+                                " with handle '" + s.handles[owner[v]].name + "' (/handles/" +
+                                std::to_string(owner[v]) + ")");
         owner[v] = static_cast<int>(h);
       }
       s.handles.push_back(std::move(handle));
@@ -268,7 +277,8 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
     throw s.error("/frames", "give either `pose` or `frames`, not both");
   if (auto it = doc.find("frames"); it != doc.end()) {
     s.animated = true;
-    for (std::size_t f = 0; f < it->size(); ++f) s.frames.push_back(make_pose(s, (*it)[f], "/frames/" + std::to_string(f)));
+    for (std::size_t f = 0; f < it->size(); ++f)
+      s.frames.push_back(make_pose(s, (*it)[f], "/frames/" + std::to_string(f)));
   } else if (auto p = doc.find("pose"); p != doc.end()) {
     s.frames.push_back(make_pose(s, *p, "/pose"));
   } else {
@@ -280,10 +290,12 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
     IkSpec ik;
     const json& c = (*it)["chain"];
     ik.chain.resize(static_cast<Eigen::Index>(c.size()), 3);
-    for (std::size_t i = 0; i < c.size(); ++i) ik.chain.row(static_cast<Eigen::Index>(i)) = vec3(c[i]).transpose();
+    for (std::size_t i = 0; i < c.size(); ++i)
+      ik.chain.row(static_cast<Eigen::Index>(i)) = vec3(c[i]).transpose();
     for (Eigen::Index i = 0; i + 1 < ik.chain.rows(); ++i)
       if (!((ik.chain.row(i + 1) - ik.chain.row(i)).norm() > 0.0))
-        throw s.error("/ik/chain/" + std::to_string(i + 1), "joint coincides with the previous joint (zero-length bone)");
+        throw s.error("/ik/chain/" + std::to_string(i + 1),
+                      "joint coincides with the previous joint (zero-length bone)");
     ik.target = vec3((*it)["target"]);
     ik.tolerance = value_or(*it, "tolerance", 1e-4);
     ik.iterations = value_or(*it, "iterations", 50);
@@ -321,8 +333,9 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
     s.snap.steps = value_or(*it, "steps", 4);
     s.snap.area_constraint = value_or(*it, "area_constraint", 0.0);
     if (!(s.snap.mode == SnapMode::Free) && (it->contains("tradeoff") || it->contains("smooth_rho")))
-      throw s.error("/snap", "`tradeoff` and `smooth_rho` belong to mode \"free\"; mode \"shape\" takes `steps` and "
-                             "`area_constraint`, mode \"pinned\" takes `pins`, `keep` and `iterations`");
+      throw s.error("/snap",
+                    "`tradeoff` and `smooth_rho` belong to mode \"free\"; mode \"shape\" takes `steps` and "
+                    "`area_constraint`, mode \"pinned\" takes `pins`, `keep` and `iterations`");
     if (!shape && (it->contains("steps") || it->contains("area_constraint")))
       throw s.error("/snap", "`steps` and `area_constraint` belong to mode \"shape\"");
     if (!pinned && (pins || it->contains("keep") || it->contains("iterations")))
@@ -334,7 +347,8 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
         for (std::size_t h = 0; h < s.handles.size(); ++h) s.snap.pin_handles.push_back(static_cast<int>(h));
       } else {
         for (std::size_t k = 0; k < p.size(); ++k)
-          s.snap.pin_handles.push_back(s.handle_index(s.handle(p[k].get<std::string>(), "/snap/pins/" + std::to_string(k)).name));
+          s.snap.pin_handles.push_back(
+              s.handle_index(s.handle(p[k].get<std::string>(), "/snap/pins/" + std::to_string(k)).name));
       }
       if (s.snap.pin_handles.empty())
         throw s.error("/snap/pins", "mode \"pinned\" needs at least one handle to pin (this scene has none)");
@@ -362,7 +376,8 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
     if (it->contains("metrics")) s.output.metrics = (*it)["metrics"].get<std::string>();
     if (it->contains("colors")) {
       s.output.colors = (*it)["colors"].get<std::string>();
-      if (s.output.colors->extension() != ".ply") throw s.error("/output/colors", "the colour output is a .ply file");
+      if (s.output.colors->extension() != ".ply")
+        throw s.error("/output/colors", "the colour output is a .ply file");
     }
   }
   return s;

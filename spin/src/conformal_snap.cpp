@@ -1,7 +1,6 @@
 #include "spinmotor/spin/conformal_snap.hpp"
 
 #include <Eigen/Geometry>
-
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -10,12 +9,12 @@
 #include <vector>
 
 #include "spinmotor/core/error.hpp"
-#include "spinmotor/mesh/mass_matrix.hpp"
+#include "spinmotor/core/stopwatch.hpp"
 #include "spinmotor/ga/quaternion.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
+#include "spinmotor/mesh/mass_matrix.hpp"
 #include "spinmotor/mesh/topology.hpp"
 #include "spinmotor/mesh/validate.hpp"
-#include "spinmotor/core/stopwatch.hpp"
 
 namespace spinmotor {
 
@@ -23,28 +22,31 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-ga::Quat row_quat(const Eigen::MatrixXd& Q, Eigen::Index i) { return ga::Quat(Q(i, 0), Q(i, 1), Q(i, 2), Q(i, 3)); }
+ga::Quat row_quat(const Eigen::MatrixXd& Q, Eigen::Index i) {
+  return ga::Quat(Q(i, 0), Q(i, 1), Q(i, 2), Q(i, 3));
+}
 
 void check_positions(const Eigen::MatrixXd& V, Eigen::Index n, const char* what) {
   if (V.rows() != n || V.cols() != 3) {
     std::ostringstream m;
-    m << "conformal_snap: " << what << " has " << V.rows() << " x " << V.cols() << " coordinates, the rest mesh " << n
-      << " x 3 (same vertex count and order needed)";
+    m << "conformal_snap: " << what << " has " << V.rows() << " x " << V.cols()
+      << " coordinates, the rest mesh " << n << " x 3 (same vertex count and order needed)";
     throw Error(m.str());
   }
   for (Eigen::Index i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c)
       if (!std::isfinite(V(i, c))) {
         std::ostringstream m;
-        m << "conformal_snap: " << what << " vertex " << i << " coordinate " << "xyz"[c] << " is not finite ("
-          << V(i, c) << ")";
+        m << "conformal_snap: " << what << " vertex " << i << " coordinate "
+          << "xyz"[c] << " is not finite (" << V(i, c) << ")";
         throw Error(m.str());
       }
 }
 
 // Orthonormal frame [u w n] of a triangle's plane (u along e1, n the CCW normal) and the 2×2 matrix
 // of its edges e1, e2 in that frame. Returns false if the triangle is collapsed.
-bool planar_frame(const Eigen::Vector3d& e1, const Eigen::Vector3d& e2, Eigen::Matrix3d& frame, Eigen::Matrix2d& P) {
+bool planar_frame(const Eigen::Vector3d& e1, const Eigen::Vector3d& e2, Eigen::Matrix3d& frame,
+                  Eigen::Matrix2d& P) {
   const Eigen::Vector3d c = e1.cross(e2);
   const double l2 = std::max({e1.squaredNorm(), e2.squaredNorm(), (e2 - e1).squaredNorm()});
   if (!(c.norm() > 16.0 * std::numeric_limits<double>::epsilon() * l2)) return false;
@@ -164,7 +166,8 @@ Eigen::MatrixXd vertex_similarities(const Eigen::MatrixXi& F, Eigen::Index n, co
   for (Eigen::Index i = 0; i < n; ++i) {
     if (!(wsum[i] > 0)) {
       std::ostringstream msg;
-      msg << "vertex_similarities: vertex " << i << " has no incident face with a similarity (all collapsed?)";
+      msg << "vertex_similarities: vertex " << i
+          << " has no incident face with a similarity (all collapsed?)";
       throw Error(msg.str());
     }
     mu.row(i) /= wsum[i];
@@ -219,9 +222,9 @@ struct ConformalSnap::Impl {
   bool open = false;
   std::optional<SpinTransform> st;  // bound once unless the boundary tangents follow the edit
   Eigen::VectorXd face_area, vertex_area;
-  std::vector<int> next;            // boundary successor (surface on the left), −1 inside
-  double mean_edge = 1;             // mean edge length of the rest mesh
-  EdgeTopology topo;                // face adjacency for rho_smoothing
+  std::vector<int> next;  // boundary successor (surface on the left), −1 inside
+  double mean_edge = 1;   // mean edge length of the rest mesh
+  EdgeTopology topo;      // face adjacency for rho_smoothing
   double bind_ms = 0;
 
   SpinTransformOptions spin_options() const {
@@ -235,7 +238,8 @@ struct ConformalSnap::Impl {
   }
 };
 
-ConformalSnap::ConformalSnap(const Mesh& rest, const ConformalSnapOptions& options) : impl_(std::make_unique<Impl>()) {
+ConformalSnap::ConformalSnap(const Mesh& rest, const ConformalSnapOptions& options)
+    : impl_(std::make_unique<Impl>()) {
   const auto t0 = Clock::now();
   Impl& s = *impl_;
   s.rest.V = rest.V;
@@ -245,8 +249,12 @@ ConformalSnap::ConformalSnap(const Mesh& rest, const ConformalSnapOptions& optio
   if (options.problem == SpinEigenProblem::Unweighted)
     throw Error("conformal_snap: problem must be standard (eq. 7) or generalized (eq. 6)");
   require(s.rest,
-          {.finite = true, .manifold = true, .oriented = true, .no_degenerate = true,
-           .closed = options.problem == SpinEigenProblem::Generalized, .single_component = true,
+          {.finite = true,
+           .manifold = true,
+           .oriented = true,
+           .no_degenerate = true,
+           .closed = options.problem == SpinEigenProblem::Generalized,
+           .single_component = true,
            .no_unreferenced = true},
           "conformal_snap");
   const Eigen::Index n = rest.V.rows();
@@ -255,7 +263,8 @@ ConformalSnap::ConformalSnap(const Mesh& rest, const ConformalSnapOptions& optio
   {
     double sum = 0;
     for (Eigen::Index f = 0; f < rest.F.rows(); ++f)
-      for (int c = 0; c < 3; ++c) sum += (rest.V.row(rest.F(f, c)) - rest.V.row(rest.F(f, (c + 1) % 3))).norm();
+      for (int c = 0; c < 3; ++c)
+        sum += (rest.V.row(rest.F(f, c)) - rest.V.row(rest.F(f, (c + 1) % 3))).norm();
     s.mean_edge = sum / (3.0 * static_cast<double>(rest.F.rows()));
   }
   if (options.rho_smoothing < 0) throw Error("conformal_snap: rho_smoothing must be >= 0");
@@ -298,12 +307,14 @@ ConformalSnapResult ConformalSnap::snap(const Eigen::MatrixXd& V_edit) {
   return r;
 }
 
-ConformalSnapResult ConformalSnap::snap_face_similarities(const Eigen::MatrixXd& Sf, const Eigen::MatrixXd& V_edit) {
+ConformalSnapResult ConformalSnap::snap_face_similarities(const Eigen::MatrixXd& Sf,
+                                                          const Eigen::MatrixXd& V_edit) {
   Impl& s = *impl_;
   const Eigen::Index n = s.rest.V.rows(), m = s.rest.F.rows();
   check_positions(V_edit, n, "edited mesh");
   if (Sf.rows() != m || Sf.cols() != 4 || !Sf.allFinite())
-    throw Error("conformal_snap: face similarities must be a finite m x 4 matrix (m = faces of the rest mesh)");
+    throw Error(
+        "conformal_snap: face similarities must be a finite m x 4 matrix (m = faces of the rest mesh)");
   ConformalSnapResult r;
   auto t = Clock::now();
   r.mu = vertex_similarities(s.rest.F, n, Sf, s.face_area);
@@ -372,7 +383,8 @@ ConformalSnapResult ConformalSnap::snap_face_similarities(const Eigen::MatrixXd&
     den += s.vertex_area[i] * ga::norm2(l);
   }
   if (!(ga::norm2(num) > 0) || !(den > 0))
-    throw numerical_error("conformal_snap: the spin transformation's similarity field is orthogonal to the edit's");
+    throw numerical_error(
+        "conformal_snap: the spin transformation's similarity field is orthogonal to the edit's");
   const ga::Quat q = num / den;
   r.lambda.resize(n, 4);
   for (Eigen::Index i = 0; i < n; ++i) r.lambda.row(i) = (row_quat(sr.lambda, i) * q).coeffs().transpose();
@@ -381,11 +393,14 @@ ConformalSnapResult ConformalSnap::snap_face_similarities(const Eigen::MatrixXd&
   const Eigen::MatrixXd blend = tt == 1.0 ? r.lambda : ((1.0 - tt) * r.mu + tt * r.lambda).eval();
   Eigen::MatrixXd Vs = st->reconstruct(blend);
   switch (s.opt.alignment) {
-    case SnapAlignment::Similarity: r.alignment = umeyama_fit(Vs, V_edit, true); break;
+    case SnapAlignment::Similarity:
+      r.alignment = umeyama_fit(Vs, V_edit, true);
+      break;
     case SnapAlignment::Translation:
       r.alignment.t = (V_edit.colwise().mean() - Vs.colwise().mean()).transpose();
       break;
-    case SnapAlignment::None: break;
+    case SnapAlignment::None:
+      break;
   }
   r.V = r.alignment.apply(Vs);
   if (!r.V.allFinite()) throw numerical_error("conformal_snap: the snapped positions are not finite");
@@ -393,7 +408,8 @@ ConformalSnapResult ConformalSnap::snap_face_similarities(const Eigen::MatrixXd&
   return r;
 }
 
-ConformalSnapResult conformal_snap(const Mesh& rest, const Eigen::MatrixXd& V_edit, const ConformalSnapOptions& options) {
+ConformalSnapResult conformal_snap(const Mesh& rest, const Eigen::MatrixXd& V_edit,
+                                   const ConformalSnapOptions& options) {
   ConformalSnap cs(rest, options);
   return cs.snap(V_edit);
 }

@@ -50,7 +50,8 @@ Eigen::VectorXd face_rho_from_function(const Eigen::MatrixXd& V, const Eigen::Ma
     rho[f] = g(c);
     if (!std::isfinite(rho[f])) {
       std::ostringstream s;
-      s << "curvature change function is not finite at the barycentre of face " << f << " (" << c.transpose() << ")";
+      s << "curvature change function is not finite at the barycentre of face " << f << " (" << c.transpose()
+        << ")";
       throw Error(s.str());
     }
   }
@@ -68,7 +69,8 @@ Eigen::VectorXd face_rho_from_image(const Mesh& mesh, const GrayscaleImage& imag
       const int t = mesh.FUV(f, c);
       if (t < 0 || t >= mesh.UV.rows()) {
         std::ostringstream s;
-        s << "face " << f << " has texture coordinate index " << t << " outside [0, " << mesh.UV.rows() << ")";
+        s << "face " << f << " has texture coordinate index " << t << " outside [0, " << mesh.UV.rows()
+          << ")";
         throw Error(s.str());
       }
       mean += image.sample_uv(mesh.UV(t, 0), mesh.UV(t, 1)) / 255.0 / 3.0;

@@ -121,9 +121,7 @@ CurvatureSpinStep curvature_spin_step(const Eigen::MatrixXd& V, const Eigen::Mat
                                       const Eigen::VectorXd& h_target, const Eigen::VectorXd& target_area,
                                       const CurvatureSpinOptions& options) {
   static constexpr const char* who = "curvature_spin_step";
-  require(Mesh{V, F, {}, {}},
-          kClosedSurface,
-          who);
+  require(Mesh{V, F, {}, {}}, kClosedSurface, who);
   check_options(options, who);
   const Eigen::Index m = F.rows();
   check_field(h_target, m, who, "target half-density", false);

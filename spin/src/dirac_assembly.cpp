@@ -8,17 +8,16 @@
 #include <sstream>
 
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/parallel.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
 #include "spinmotor/mesh/topology.hpp"
 #include "spinmotor/spin/quaternion_matrix.hpp"
-#include "spinmotor/core/parallel.hpp"
 
 namespace spinmotor {
 
 namespace {
 
 using RowQuats = Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>;
-
 
 void check_rho(const Eigen::VectorXd& rho, Eigen::Index m) {
   if (rho.size() != m) {
@@ -270,8 +269,10 @@ void DiracAssembly::fill(const Eigen::VectorXd& scale, const Eigen::VectorXd& di
         Y = X;
       } else {
         Y.setZero();
-        const Eigen::MatrixXd Uk = dk == 4 ? Eigen::MatrixXd(Eigen::Matrix4d::Identity()) : Eigen::MatrixXd(U_[k]);
-        const Eigen::MatrixXd Uj = dj == 4 ? Eigen::MatrixXd(Eigen::Matrix4d::Identity()) : Eigen::MatrixXd(U_[j]);
+        const Eigen::MatrixXd Uk =
+            dk == 4 ? Eigen::MatrixXd(Eigen::Matrix4d::Identity()) : Eigen::MatrixXd(U_[k]);
+        const Eigen::MatrixXd Uj =
+            dj == 4 ? Eigen::MatrixXd(Eigen::Matrix4d::Identity()) : Eigen::MatrixXd(U_[j]);
         Y.topLeftCorner(dk, dj) = Uk.transpose() * X * Uj;
       }
       int before = 0;
@@ -285,7 +286,8 @@ void DiracAssembly::fill(const Eigen::VectorXd& scale, const Eigen::VectorXd& di
   }
 }
 
-void DiracAssembly::normal_entries(const Eigen::VectorXd& rho, Eigen::VectorXd& diag, RowQuats& edge_q) const {
+void DiracAssembly::normal_entries(const Eigen::VectorXd& rho, Eigen::VectorXd& diag,
+                                   RowQuats& edge_q) const {
   check_rho(rho, m_);
   const Eigen::Index ne = E_.rows();
   diag.resize(n_);
@@ -381,7 +383,8 @@ void DiracAssembly::mixed_matrix(const Eigen::VectorXd& rho, const Eigen::Vector
 }
 
 const Eigen::SparseMatrix<std::complex<double>>& DiracAssembly::complex_pattern() const {
-  if (reduced_) throw Error("DiracAssembly: the complex form needs every vertex unreduced (no boundary tangents)");
+  if (reduced_)
+    throw Error("DiracAssembly: the complex form needs every vertex unreduced (no boundary tangents)");
   if (complex_pattern_.rows() == 2 * n_) return complex_pattern_;
   // Column 2j: rows 2j, 2j+1, then 2k, 2k+1 per neighbour k > j; column 2j+1: row 2j+1, then the same.
   Eigen::SparseMatrix<std::complex<double>> P(2 * n_, 2 * n_);
@@ -410,8 +413,8 @@ const Eigen::SparseMatrix<std::complex<double>>& DiracAssembly::complex_pattern(
   return complex_pattern_;
 }
 
-void DiracAssembly::fill_complex(const Eigen::VectorXd& scale, const Eigen::VectorXd& diag, const RowQuats& edge_q,
-                                 Eigen::SparseMatrix<std::complex<double>>& K) const {
+void DiracAssembly::fill_complex(const Eigen::VectorXd& scale, const Eigen::VectorXd& diag,
+                                 const RowQuats& edge_q, Eigen::SparseMatrix<std::complex<double>>& K) const {
   const Eigen::SparseMatrix<std::complex<double>>& P = complex_pattern();
   if (K.rows() != P.rows() || K.nonZeros() != P.nonZeros() || !K.isCompressed())
     throw Error("DiracAssembly: the output matrix must be a copy of complex_pattern()");
@@ -452,7 +455,8 @@ Eigen::MatrixXd DiracAssembly::expand(const Eigen::VectorXcd& w, const Eigen::Ve
   for (Eigen::Index k = 0; k < n_; ++k) {
     const int i = order_[k];
     const double s = scale.size() == n_ ? scale[i] : 1.0;
-    lambda.row(i) << s * w[2 * k].real(), s * w[2 * k].imag(), s * w[2 * k + 1].real(), -s * w[2 * k + 1].imag();
+    lambda.row(i) << s * w[2 * k].real(), s * w[2 * k].imag(), s * w[2 * k + 1].real(),
+        -s * w[2 * k + 1].imag();
   }
   return lambda;
 }
@@ -473,7 +477,8 @@ Eigen::MatrixXd DiracAssembly::expand(const Eigen::VectorXd& x, const Eigen::Vec
 }
 
 Eigen::VectorXd DiracAssembly::restrict_field(const Eigen::MatrixXd& lambda) const {
-  if (lambda.rows() != n_ || lambda.cols() != 4) throw Error("DiracAssembly::restrict_field: lambda must be n x 4");
+  if (lambda.rows() != n_ || lambda.cols() != 4)
+    throw Error("DiracAssembly::restrict_field: lambda must be n x 4");
   Eigen::VectorXd x(num_unknowns());
   for (Eigen::Index k = 0; k < n_; ++k) {
     const int i = order_[k];

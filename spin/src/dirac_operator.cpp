@@ -79,7 +79,8 @@ Eigen::SparseMatrix<double> curvature_change_operator(const Eigen::MatrixXi& F, 
   t.reserve(static_cast<std::size_t>(F.rows()) * 12);
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     for (int c = 0; c < 3; ++c)
-      for (int k = 0; k < 4; ++k) t.emplace_back(4 * f + k, 4 * F(f, c) + k, rho[f] / 3.0);  // (PB)_fj = ρ_f/3
+      for (int k = 0; k < 4; ++k)
+        t.emplace_back(4 * f + k, 4 * F(f, c) + k, rho[f] / 3.0);  // (PB)_fj = ρ_f/3
   Eigen::SparseMatrix<double> R(4 * F.rows(), 4 * n);
   R.setFromTriplets(t.begin(), t.end());
   return R;
@@ -92,7 +93,8 @@ Eigen::SparseMatrix<double> dirac_minus_rho(const Eigen::MatrixXd& V, const Eige
   return A;
 }
 
-Eigen::SparseMatrix<double> dirac_adjoint(const Eigen::SparseMatrix<double>& X, const Eigen::VectorXd& face_areas) {
+Eigen::SparseMatrix<double> dirac_adjoint(const Eigen::SparseMatrix<double>& X,
+                                          const Eigen::VectorXd& face_areas) {
   if (X.rows() != 4 * face_areas.size()) {
     std::ostringstream s;
     s << "dirac_adjoint: X has " << X.rows() << " rows, expected 4 × " << face_areas.size() << " faces";

@@ -10,8 +10,8 @@
 #include <sstream>
 #include <string>
 
-#include "spinmotor/linalg/cholmod_llt.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/linalg/cholmod_llt.hpp"
 #include "spinmotor/mesh/mass_matrix.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 #include "spinmotor/mesh/validate.hpp"
@@ -145,9 +145,9 @@ PencilSolution solve_pencil(const Eigen::SparseMatrix<double>& K, const Eigen::S
 /// The tail both spectra share: without the constants (closed meshes) the last quaternion's 4
 /// unknowns are dropped, the count is checked against the remaining size, the pencil is solved and the
 /// eigenvalue fields of `out` are filled.
-PencilSolution solve_trimmed_pencil(Eigen::SparseMatrix<double> K, Eigen::SparseMatrix<double> G, bool constants,
-                                    const DiracSpectrumOptions& options, LLT::Ordering ordering, const char* who,
-                                    DiracSpectrum& out) {
+PencilSolution solve_trimmed_pencil(Eigen::SparseMatrix<double> K, Eigen::SparseMatrix<double> G,
+                                    bool constants, const DiracSpectrumOptions& options,
+                                    LLT::Ordering ordering, const char* who, DiracSpectrum& out) {
   const Eigen::Index Nr = constants ? K.rows() - 4 : K.rows();
   if (constants) {
     K = Eigen::SparseMatrix<double>(K.topLeftCorner(Nr, Nr));
@@ -170,9 +170,7 @@ PencilSolution solve_trimmed_pencil(Eigen::SparseMatrix<double> K, Eigen::Sparse
 
 DiracSpectrum dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                              const Eigen::VectorXd& rho_in, const DiracSpectrumOptions& options) {
-  require(Mesh{V, F, {}, {}},
-          kClosedSurface,
-          "dirac_spectrum");
+  require(Mesh{V, F, {}, {}}, kClosedSurface, "dirac_spectrum");
   const Eigen::Index m = F.rows();
   if (rho_in.size() != 0 && rho_in.size() != m) {
     std::ostringstream s;
@@ -194,8 +192,8 @@ DiracSpectrum dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
   as.mixed_matrix(rho, {}, G);
   // Without the constants, the last vertex in the assembly's order is dropped.
   DiracSpectrum out;
-  const PencilSolution p =
-      solve_trimmed_pencil(std::move(K), std::move(G), constants, options, LLT::Ordering::Natural, "dirac_spectrum", out);
+  const PencilSolution p = solve_trimmed_pencil(std::move(K), std::move(G), constants, options,
+                                                LLT::Ordering::Natural, "dirac_spectrum", out);
   const int count = options.count;
   const Eigen::Index N = as.num_unknowns();
   if (options.eigenvectors) {
@@ -252,8 +250,8 @@ DiracSpectrum face_dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixX
   const Eigen::SparseMatrix<double> Minv = quaternion_diagonal(net.area.cwiseInverse());
   DiracSpectrum out;
   const PencilSolution p = solve_trimmed_pencil(Eigen::SparseMatrix<double>(DA.transpose() * Minv * DA),
-                                                Eigen::SparseMatrix<double>(Av.transpose() * DA), constants, options,
-                                                LLT::Ordering::AMD, "face_dirac_spectrum", out);
+                                                Eigen::SparseMatrix<double>(Av.transpose() * DA), constants,
+                                                options, LLT::Ordering::AMD, "face_dirac_spectrum", out);
   const int count = options.count;
   const Eigen::Index N = 4 * n;
   if (options.eigenvectors) {

@@ -27,7 +27,9 @@ namespace spinmotor {
 double GrayscaleImage::sample(double x, double y) const {
   const double fx = std::floor(x), fy = std::floor(y);
   const double ax = x - fx, ay = y - fy, bx = 1.0 - ax, by = 1.0 - ay;
-  auto clampi = [](double v, int hi) { return static_cast<int>(std::clamp(v, 0.0, static_cast<double>(hi))); };
+  auto clampi = [](double v, int hi) {
+    return static_cast<int>(std::clamp(v, 0.0, static_cast<double>(hi)));
+  };
   const int x0 = clampi(fx, width - 1), x1 = clampi(fx + 1, width - 1);
   const int y0 = clampi(fy, height - 1), y1 = clampi(fy + 1, height - 1);
   return by * (bx * at(x0, y0) + ax * at(x1, y0)) + ay * (bx * at(x0, y1) + ax * at(x1, y1));

@@ -15,8 +15,8 @@
 #include <string>
 
 #include "spinmotor/core/error.hpp"
-#include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/linalg/dirichlet_solver.hpp"
+#include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
 #include "spinmotor/mesh/topology.hpp"
 

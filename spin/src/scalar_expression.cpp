@@ -21,18 +21,30 @@ struct Node {
   std::unique_ptr<Node> a, b;
   double eval(const Eigen::Vector3d& p) const {
     switch (op) {
-      case Op::Num: return value;
-      case Op::X: return p.x();
-      case Op::Y: return p.y();
-      case Op::Z: return p.z();
-      case Op::R: return p.norm();
-      case Op::Add: return a->eval(p) + b->eval(p);
-      case Op::Sub: return a->eval(p) - b->eval(p);
-      case Op::Mul: return a->eval(p) * b->eval(p);
-      case Op::Div: return a->eval(p) / b->eval(p);
-      case Op::Pow: return std::pow(a->eval(p), b->eval(p));
-      case Op::Neg: return -a->eval(p);
-      case Op::Fun: return fun(a->eval(p));
+      case Op::Num:
+        return value;
+      case Op::X:
+        return p.x();
+      case Op::Y:
+        return p.y();
+      case Op::Z:
+        return p.z();
+      case Op::R:
+        return p.norm();
+      case Op::Add:
+        return a->eval(p) + b->eval(p);
+      case Op::Sub:
+        return a->eval(p) - b->eval(p);
+      case Op::Mul:
+        return a->eval(p) * b->eval(p);
+      case Op::Div:
+        return a->eval(p) / b->eval(p);
+      case Op::Pow:
+        return std::pow(a->eval(p), b->eval(p));
+      case Op::Neg:
+        return -a->eval(p);
+      case Op::Fun:
+        return fun(a->eval(p));
     }
     return 0;
   }
@@ -48,7 +60,7 @@ NodePtr make(Node::Op op, NodePtr a = nullptr, NodePtr b = nullptr) {
 }
 
 class Parser {
-public:
+ public:
   explicit Parser(const std::string& s) : s_(s) {}
   NodePtr parse() {
     NodePtr e = expr();
@@ -57,7 +69,7 @@ public:
     return e;
   }
 
-private:
+ private:
   const std::string& s_;
   std::size_t i_ = 0;
 
@@ -150,7 +162,8 @@ private:
       const auto f = funs.find(name);
       if (f == funs.end()) {
         i_ = start;
-        fail("unknown name '" + name + "' (variables x, y, z, r; constants pi, e; functions sin, cos, tan, asin, "
+        fail("unknown name '" + name +
+             "' (variables x, y, z, r; constants pi, e; functions sin, cos, tan, asin, "
              "acos, atan, sinh, cosh, tanh, exp, log, sqrt, abs)");
       }
       if (!accept('(')) fail("expected '(' after " + name);

@@ -1,26 +1,25 @@
 #include "spinmotor/spin/spin_transform.hpp"
 
 #include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <chrono>
-#include <future>
 #include <cmath>
+#include <future>
 #include <limits>
 #include <sstream>
 #include <vector>
 
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/parallel.hpp"
+#include "spinmotor/core/stopwatch.hpp"
+#include "spinmotor/ga/quaternion.hpp"
 #include "spinmotor/linalg/cholesky_solver.hpp"
+#include "spinmotor/linalg/cholmod_llt.hpp"
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
 #include "spinmotor/mesh/topology.hpp"
 #include "spinmotor/mesh/validate.hpp"
-#include "spinmotor/ga/quaternion.hpp"
 #include "spinmotor/spin/quaternion_matrix.hpp"
-#include "spinmotor/linalg/cholmod_llt.hpp"
-#include "spinmotor/core/stopwatch.hpp"
-#include "spinmotor/core/parallel.hpp"
 
 namespace spinmotor {
 
@@ -31,9 +30,12 @@ using ComplexLLT = detail::CholmodLLT<std::complex<double>>;
 
 CholeskySolver::Ordering to_cholmod(VertexOrdering o) {
   switch (o) {
-    case VertexOrdering::Natural: return CholeskySolver::Ordering::Natural;
-    case VertexOrdering::AMD: return CholeskySolver::Ordering::AMD;
-    case VertexOrdering::METIS: return CholeskySolver::Ordering::METIS;
+    case VertexOrdering::Natural:
+      return CholeskySolver::Ordering::Natural;
+    case VertexOrdering::AMD:
+      return CholeskySolver::Ordering::AMD;
+    case VertexOrdering::METIS:
+      return CholeskySolver::Ordering::METIS;
   }
   return CholeskySolver::Ordering::AMD;
 }
@@ -82,7 +84,7 @@ struct IterationResult {
 // shift, ρ = 0; ~4e-9 on the 28k-face capsule, where the residual stalls at 1.6e-10). As a safety
 // net, also when it has stalled below 1e-6 (less than 10% progress in 4 iterations).
 class Convergence {
-public:
+ public:
   Convergence(double tol, double norm_k) : tol_(tol), norm_k_(norm_k) {}
   /// residual and ‖K_s x‖/‖x‖ of the current iterate.
   bool done(double residual, double kx) {
@@ -95,7 +97,7 @@ public:
     return best_ < 1e-6 && since_ >= 4;
   }
 
-private:
+ private:
   double tol_, norm_k_, best_ = std::numeric_limits<double>::infinity();
   int since_ = 0;
 };
@@ -111,7 +113,8 @@ IterationResult inverse_iteration(const Eigen::SparseMatrix<Scalar>& K, const Ei
   for (int it = 0; it < o.iterations; ++it) {
     Vec y = G ? solve(sym_mul(*G, x)) : solve(x);
     const double ny = y.norm();
-    if (!(ny > 0) || !std::isfinite(ny)) throw numerical_error("spin_transform: inverse iteration broke down");
+    if (!(ny > 0) || !std::isfinite(ny))
+      throw numerical_error("spin_transform: inverse iteration broke down");
     y /= ny;
     const Vec Ky = sym_mul(K, y);
     const double nKy = Ky.norm();
@@ -137,14 +140,15 @@ IterationResult inverse_iteration(const Eigen::SparseMatrix<Scalar>& K, const Ei
 // (classical Gram–Schmidt, twice) and restarted from the current Ritz vector when it reaches
 // `max_basis` vectors.
 template <class Scalar, class Solve>
-IterationResult krylov_inverse_iteration(const Eigen::SparseMatrix<Scalar>& K, const Eigen::SparseMatrix<Scalar>* G,
-                                         const Solve& solve, double sigma, const SpinTransformOptions& o,
+IterationResult krylov_inverse_iteration(const Eigen::SparseMatrix<Scalar>& K,
+                                         const Eigen::SparseMatrix<Scalar>* G, const Solve& solve,
+                                         double sigma, const SpinTransformOptions& o,
                                          Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& x, int max_basis = 24) {
   using Vec = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
   using Mat = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
   const Eigen::Index N = x.size();
   Mat Vb(N, max_basis), W(N, max_basis), Z;  // basis, K·basis, G·basis
-  Mat Hk(max_basis, max_basis), Hgk;             // projections Vbᴴ W and Vbᴴ Z, grown one row/column per step
+  Mat Hk(max_basis, max_basis), Hgk;         // projections Vbᴴ W and Vbᴴ Z, grown one row/column per step
   if (G) Z.resize(N, max_basis), Hgk.resize(max_basis, max_basis);
   int k = 0;
   // Matrix–vector products only (Eigen would run N×k by N×k products through its OpenMP GEMM).
@@ -215,7 +219,8 @@ IterationResult krylov_inverse_iteration(const Eigen::SparseMatrix<Scalar>& K, c
       for (Eigen::Index i = 0; i < mu.size(); ++i)
         if (std::abs(mu[i] - mu[best]) <= 1e-6 * std::abs(mu[best])) cl.push_back(i);
       Uc.resize(k, static_cast<Eigen::Index>(cl.size()));
-      for (std::size_t i = 0; i < cl.size(); ++i) Uc.col(static_cast<Eigen::Index>(i)) = es.eigenvectors().col(cl[i]);
+      for (std::size_t i = 0; i < cl.size(); ++i)
+        Uc.col(static_cast<Eigen::Index>(i)) = es.eigenvectors().col(cl[i]);
       r.theta = 1.0 / mu[best];
     }
     Eigen::Matrix<Scalar, Eigen::Dynamic, 1> u;
@@ -248,7 +253,8 @@ IterationResult krylov_inverse_iteration(const Eigen::SparseMatrix<Scalar>& K, c
 
 }  // namespace
 
-Eigen::MatrixXd transformed_edges(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E, const Eigen::MatrixXd& lambda) {
+Eigen::MatrixXd transformed_edges(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
+                                  const Eigen::MatrixXd& lambda) {
   if (lambda.rows() != V.rows() || lambda.cols() != 4) throw Error("transformed_edges: lambda must be n x 4");
   Eigen::MatrixXd out(E.rows(), 3);
 #pragma omp parallel for schedule(static) if (parallel::worth(E.rows(), parallel::kAssembly))
@@ -260,7 +266,8 @@ Eigen::MatrixXd transformed_edges(const Eigen::MatrixXd& V, const Eigen::MatrixX
     const ga::Quat ci = ga::conj(li), cj = ga::conj(lj);
     // eq. 8: ẽ = ⅓ λ̄_i e λ_i + ⅙ λ̄_i e λ_j + ⅙ λ̄_j e λ_i + ⅓ λ̄_j e λ_j
     const ga::Quat ei = ci * ed, ej = cj * ed;
-    const ga::Quat t = (1.0 / 3.0) * (ei * li) + (1.0 / 6.0) * (ei * lj) + (1.0 / 6.0) * (ej * li) + (1.0 / 3.0) * (ej * lj);
+    const ga::Quat t =
+        (1.0 / 3.0) * (ei * li) + (1.0 / 6.0) * (ei * lj) + (1.0 / 6.0) * (ej * li) + (1.0 / 3.0) * (ej * lj);
     out.row(e) = t.vec().transpose();
   }
   return out;
@@ -273,20 +280,20 @@ struct SpinTransform::Impl {
   double area0 = 0;
   Eigen::RowVector3d mean0;
   std::unique_ptr<DiracAssembly> as;
-  Eigen::VectorXd scale;       // s_i (Standard) or empty
-  double scale_c = 1.0;        // s_i = scale_c / sqrt(M_i)
-  bool complex = false;        // complex Hermitian form (no reductions)
+  Eigen::VectorXd scale;  // s_i (Standard) or empty
+  double scale_c = 1.0;   // s_i = scale_c / sqrt(M_i)
+  bool complex = false;   // complex Hermitian form (no reductions)
   Eigen::SparseMatrix<double> K, G;
   Eigen::SparseMatrix<std::complex<double>> Kc, Gc;
   CholeskySolver chol;
   ComplexLLT cchol;
-  Eigen::VectorXd start;       // normalised all-ones start vector (unknowns)
+  Eigen::VectorXd start;  // normalised all-ones start vector (unknowns)
   Eigen::VectorXcd cstart;
   // Poisson (§5.6), prepared on a second thread during bind (it does not depend on ρ) and awaited by
   // the first solve: on two cores it overlaps the eigen matrix's factorization.
   Eigen::MatrixXi E;
-  Eigen::VectorXd w;           // cotangent weight per edge (−L_ij)
-  CholeskySolver poisson;      // L in the assembly's vertex order, last vertex (in that order) removed
+  Eigen::VectorXd w;       // cotangent weight per edge (−L_ij)
+  CholeskySolver poisson;  // L in the assembly's vertex order, last vertex (in that order) removed
   double poisson_factor_ms = 0;
   double bind_ms = 0;
   std::future<void> poisson_ready;  // last member: destroyed (joined) before the data it writes
@@ -354,7 +361,9 @@ struct SpinTransform::Impl {
         Vn.rowwise() += mean0;
         break;
       }
-      case SpinScale::None: Vn.rowwise() += mean0; break;
+      case SpinScale::None:
+        Vn.rowwise() += mean0;
+        break;
     }
     if (!Vn.allFinite()) throw numerical_error("spin_transform: the reconstructed positions are not finite");
     return Vn;
@@ -373,8 +382,12 @@ SpinTransform::SpinTransform(const Mesh& mesh, const SpinTransformOptions& optio
   Impl& s = *impl_;
   const SpinTransformOptions& o = s.opt;
   const MeshReport rep = require(mesh,
-                                 {.finite = true, .manifold = true, .oriented = true, .no_degenerate = true,
-                                  .closed = o.problem == SpinEigenProblem::Generalized, .single_component = true,
+                                 {.finite = true,
+                                  .manifold = true,
+                                  .oriented = true,
+                                  .no_degenerate = true,
+                                  .closed = o.problem == SpinEigenProblem::Generalized,
+                                  .single_component = true,
                                   .no_unreferenced = true},
                                  "spin_transform");
   (void)rep;
@@ -394,8 +407,9 @@ SpinTransform::SpinTransform(const Mesh& mesh, const SpinTransformOptions& optio
     throw Error("spin_transform: boundary tangents need one target row (3 columns) per listed vertex");
   if (bt.vertices.size() > 0) {
     if (o.problem == SpinEigenProblem::Generalized)
-      throw Error("spin_transform: boundary tangents need the Standard or Unweighted problem (B*A is not "
-                  "Hermitian on a mesh with boundary)");
+      throw Error(
+          "spin_transform: boundary tangents need the Standard or Unweighted problem (B*A is not "
+          "Hermitian on a mesh with boundary)");
     // Source tangent: the unit outgoing boundary edge, loops oriented with the surface on the left.
     std::vector<int> next(n, -1);
     for (const auto& loop : boundary_loops(s.F))
@@ -441,9 +455,9 @@ SpinTransform::SpinTransform(const Mesh& mesh, const SpinTransformOptions& optio
   if (o.order_full_matrix) {
     s.chol = CholeskySolver({.ordering = to_cholmod(o.ordering), .supernodal = o.supernodal});
     s.cchol = ComplexLLT(o.ordering == VertexOrdering::METIS ? ComplexLLT::Ordering::METIS
-                                        : o.ordering == VertexOrdering::AMD ? ComplexLLT::Ordering::AMD
-                                                                              : ComplexLLT::Ordering::Natural,
-                                        o.supernodal);
+                         : o.ordering == VertexOrdering::AMD ? ComplexLLT::Ordering::AMD
+                                                             : ComplexLLT::Ordering::Natural,
+                         o.supernodal);
   }
   if (o.problem == SpinEigenProblem::Standard) {
     // V = M_V^{-1/2}, rescaled to mean 1 (§5.5).
@@ -465,7 +479,8 @@ SpinTransform::SpinTransform(const Mesh& mesh, const SpinTransformOptions& optio
     s.K = s.as->pattern();
     if (o.problem == SpinEigenProblem::Generalized) s.G = s.as->pattern();
     s.chol.analyze(s.K);
-    s.start = s.as->restrict_field(Eigen::MatrixXd::Constant(n, 4, 0.0).rowwise() + Eigen::RowVector4d(1, 0, 0, 0));
+    s.start =
+        s.as->restrict_field(Eigen::MatrixXd::Constant(n, 4, 0.0).rowwise() + Eigen::RowVector4d(1, 0, 0, 0));
     s.start.normalize();
   }
 
@@ -485,7 +500,9 @@ double SpinTransform::factor_nonzeros() const {
 
 SpinTransformResult SpinTransform::solve(const Eigen::VectorXd& rho) { return solve_impl(rho, true); }
 
-SpinTransformResult SpinTransform::solve_similarity(const Eigen::VectorXd& rho) { return solve_impl(rho, false); }
+SpinTransformResult SpinTransform::solve_similarity(const Eigen::VectorXd& rho) {
+  return solve_impl(rho, false);
+}
 
 SpinTransformResult SpinTransform::solve_impl(const Eigen::VectorXd& rho, bool reconstruct_positions) {
   Impl& s = *impl_;
@@ -587,7 +604,8 @@ SpinTransformResult SpinTransform::solve_impl(const Eigen::VectorXd& rho, bool r
     if (ns > 0) {
       const ga::Quat q = ga::conj(sum) / ns;
       for (Eigen::Index i = 0; i < n; ++i) {
-        const ga::Quat l = ga::Quat(res.lambda(i, 0), res.lambda(i, 1), res.lambda(i, 2), res.lambda(i, 3)) * q;
+        const ga::Quat l =
+            ga::Quat(res.lambda(i, 0), res.lambda(i, 1), res.lambda(i, 2), res.lambda(i, 3)) * q;
         res.lambda.row(i) = l.coeffs().transpose();
       }
     }
@@ -611,8 +629,8 @@ Eigen::MatrixXd SpinTransform::reconstruct(const Eigen::MatrixXd& lambda, double
   const Eigen::Index n = s.V.rows();
   if (lambda.rows() != n || lambda.cols() != 4) {
     std::ostringstream msg;
-    msg << "spin_transform: reconstruct needs an n x 4 similarity field (n = " << n << "), got " << lambda.rows()
-        << " x " << lambda.cols();
+    msg << "spin_transform: reconstruct needs an n x 4 similarity field (n = " << n << "), got "
+        << lambda.rows() << " x " << lambda.cols();
     throw Error(msg.str());
   }
   for (Eigen::Index i = 0; i < n; ++i)
@@ -628,7 +646,8 @@ Eigen::MatrixXd SpinTransform::reconstruct(const Eigen::MatrixXd& lambda, double
   return V;
 }
 
-SpinTransformResult spin_transform(const Mesh& mesh, const Eigen::VectorXd& rho, const SpinTransformOptions& options) {
+SpinTransformResult spin_transform(const Mesh& mesh, const Eigen::VectorXd& rho,
+                                   const SpinTransformOptions& options) {
   SpinTransform st(mesh, options);
   return st.solve(rho);
 }

@@ -4,7 +4,6 @@
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
-
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -78,7 +77,9 @@ TEST_CASE("batch runs one process per mesh, isolates failures and resumes", "[cl
 
   // usage errors: no {out}, same stem twice, unterminated quote
   CHECK(run_cli(dir, "batch --run \"check {in}\" --out-dir out in/sphere.obj").code == 2);
-  CHECK(run_cli(dir, "batch --run \"spin {in} --out {out}\" --out-dir out in/sphere.obj in/../in/sphere.obj").code == 2);
-  CHECK(run_cli(dir, "batch --run \"spin {in} --rho-expr '0.5 --out {out}\" --out-dir out in/sphere.obj").code == 2);
+  CHECK(run_cli(dir, "batch --run \"spin {in} --out {out}\" --out-dir out in/sphere.obj in/../in/sphere.obj")
+            .code == 2);
+  CHECK(run_cli(dir, "batch --run \"spin {in} --rho-expr '0.5 --out {out}\" --out-dir out in/sphere.obj")
+            .code == 2);
   fs::remove_all(dir);
 }

@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+
 #include "shared_data.hpp"
 
 namespace fs = std::filesystem;

@@ -4,7 +4,6 @@
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
-
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -32,7 +31,8 @@ Run run_cli(const std::string& args) {
   const fs::path base = fs::temp_directory_path() / ("spinmotor_test_cli_help_" + std::to_string(::getpid()));
   fs::create_directories(base);
   const fs::path out = base / "out.txt", err = base / "err.txt";
-  std::string cmd = "'";  // appended, not "'" + std::string&&: GCC 12's -Wrestrict false positive (bug 105329)
+  std::string cmd =
+      "'";  // appended, not "'" + std::string&&: GCC 12's -Wrestrict false positive (bug 105329)
   cmd += SPINMOTOR_CLI;
   cmd += "' " + args + " > '" + out.string() + "' 2> '" + err.string() + "'";
   const int status = std::system(cmd.c_str());
@@ -49,7 +49,8 @@ const fs::path kData = SPINMOTOR_TEST_DATA_DIR;
 }  // namespace
 
 TEST_CASE("every subcommand's --help shows examples", "[cli]") {
-  for (const char* cmd : {"batch", "check", "deform", "demo", "extrude", "fair", "flow", "metrics", "snap", "spectrum", "spin", "willmore"}) {
+  for (const char* cmd : {"batch", "check", "deform", "demo", "extrude", "fair", "flow", "metrics", "snap",
+                          "spectrum", "spin", "willmore"}) {
     const Run r = run_cli(std::string(cmd) + " --help");
     CAPTURE(cmd, r.out);
     CHECK(r.code == 0);
@@ -72,10 +73,10 @@ TEST_CASE("version flag and usage errors (exit 2)", "[cli]") {
   const Run v = run_cli("--version");
   CHECK(v.code == 0);
   CHECK_THAT(v.out, Catch::StartsWith("spinmotor "));
-  CHECK(run_cli("").code == 2);                         // a subcommand is required
+  CHECK(run_cli("").code == 2);  // a subcommand is required
   CHECK(run_cli("no-such-command").code == 2);
   CHECK(run_cli("check --no-such-option x.obj").code == 2);
-  CHECK(run_cli("metrics only_one.obj").code == 2);    // missing argument
+  CHECK(run_cli("metrics only_one.obj").code == 2);  // missing argument
 }
 
 TEST_CASE("quiet flag prints nothing but the exit code still reports", "[cli]") {
@@ -105,12 +106,13 @@ TEST_CASE("spinmotor demo: every use runs on the embedded defaults and its figur
   CHECK(j["snap_twist"]["q_mean"].get<double>() < 1.01);
   CHECK(j["snap_pose"]["q_mean"].get<double>() < j["surface_harmonic"]["q_mean"].get<double>());
   CHECK(j["snap_pose"]["q_mean"].get<double>() < 1.02);
-  CHECK(j["rig_cleanup"]["snapped"]["q_mean"].get<double>() < j["rig_cleanup"]["lbs"]["q_mean"].get<double>());
+  CHECK(j["rig_cleanup"]["snapped"]["q_mean"].get<double>() <
+        j["rig_cleanup"]["lbs"]["q_mean"].get<double>());
   CHECK(j["ik_spline"]["tip_error"].get<double>() <= 0.25 / 100);  // tube radius / 100
   CHECK(j["spin"]["q_mean"].get<double>() < 1.1);
-  for (const char* f : {"capsule.obj", "capsule-twisted.obj", "capsule-posed.obj", "capsule-twist-snapped.obj",
-                        "capsule-pose-snapped.obj", "capsule-spin.obj", "tube-ik.obj", "arm-lbs.obj",
-                        "arm-lbs-snapped.obj"})
+  for (const char* f :
+       {"capsule.obj", "capsule-twisted.obj", "capsule-posed.obj", "capsule-twist-snapped.obj",
+        "capsule-pose-snapped.obj", "capsule-spin.obj", "tube-ik.obj", "arm-lbs.obj", "arm-lbs-snapped.obj"})
     CHECK(fs::exists(out / f));
   fs::remove_all(out);
 }

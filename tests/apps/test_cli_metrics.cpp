@@ -49,7 +49,8 @@ struct TempDir {
   }
   ~TempDir() { fs::remove_all(path); }
   std::string file(const std::string& name) const {
-    std::string q = "'";  // appended, not "'" + std::string&&: GCC 12's -Wrestrict false positive (bug 105329)
+    std::string q =
+        "'";  // appended, not "'" + std::string&&: GCC 12's -Wrestrict false positive (bug 105329)
     q += (path / name).string();
     q += '\'';
     return q;

@@ -25,7 +25,6 @@ using spinmotor_test::TempDir;
 
 namespace {
 
-
 /// A 2×2 grid (31×31 vertices) lifted onto a Gaussian bump, written to dir/bump.obj.
 fs::path write_bump(const fs::path& dir) {
   Mesh g = grid({2, 2}, {31, 31});

@@ -28,8 +28,8 @@ using spinmotor_test::TempDir;
 TEST_CASE("snap returns an exact spin transformation made by `spin`", "[cli][snap]") {
   TempDir tmp;
   write_mesh(tmp.path / "rest.obj", icosphere(3));
-  const Run s = run_cli(tmp.path, "spin " + tmp.file("rest.obj") + " --rho-expr '0.1*sin(2*x)' --out " +
-                                      tmp.file("spin.obj"));
+  const Run s = run_cli(
+      tmp.path, "spin " + tmp.file("rest.obj") + " --rho-expr '0.1*sin(2*x)' --out " + tmp.file("spin.obj"));
   REQUIRE(s.code == 0);
   const Run r = run_cli(tmp.path, "snap " + tmp.file("rest.obj") + " " + tmp.file("spin.obj") + " --out " +
                                       tmp.file("snap.obj") + " --json");
@@ -58,8 +58,9 @@ TEST_CASE("snap of a twisted sausage from a file, tradeoff and alignment options
   write_mesh(tmp.path / "edit.ply", e);
   double q_prev = 0;
   for (const char* t : {"0", "1"}) {
-    const Run r = run_cli(tmp.path, "snap " + tmp.file("rest.off") + " " + tmp.file("edit.ply") + " --out " +
-                                        tmp.file("snap.obj") + " --tradeoff " + t + " --align translation --json");
+    const Run r =
+        run_cli(tmp.path, "snap " + tmp.file("rest.off") + " " + tmp.file("edit.ply") + " --out " +
+                              tmp.file("snap.obj") + " --tradeoff " + t + " --align translation --json");
     INFO(r.err);
     REQUIRE(r.code == 0);
     const nlohmann::json j = nlohmann::json::parse(r.out);
@@ -78,7 +79,8 @@ TEST_CASE("snap: mismatched or bad input exits 2 and writes nothing", "[cli][sna
   TempDir tmp;
   write_mesh(tmp.path / "a.obj", icosphere(2));
   write_mesh(tmp.path / "b.obj", icosphere(3));
-  const Run r = run_cli(tmp.path, "snap " + tmp.file("a.obj") + " " + tmp.file("b.obj") + " --out " + tmp.file("o.obj"));
+  const Run r = run_cli(
+      tmp.path, "snap " + tmp.file("a.obj") + " " + tmp.file("b.obj") + " --out " + tmp.file("o.obj"));
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Catch::Contains("642 vertices") && Catch::Contains("162 vertices"));
   CHECK_FALSE(fs::exists(tmp.path / "o.obj"));
@@ -86,7 +88,8 @@ TEST_CASE("snap: mismatched or bad input exits 2 and writes nothing", "[cli][sna
   Mesh c = icosphere(2);
   std::swap(c.F(3, 0), c.F(3, 1));
   write_mesh(tmp.path / "c.obj", c);
-  const Run f = run_cli(tmp.path, "snap " + tmp.file("a.obj") + " " + tmp.file("c.obj") + " --out " + tmp.file("o.obj"));
+  const Run f = run_cli(
+      tmp.path, "snap " + tmp.file("a.obj") + " " + tmp.file("c.obj") + " --out " + tmp.file("o.obj"));
   CHECK(f.code == 2);
   CHECK_THAT(f.err, Catch::Contains("face 3"));
   CHECK_FALSE(fs::exists(tmp.path / "o.obj"));
@@ -97,19 +100,21 @@ TEST_CASE("snap: mismatched or bad input exits 2 and writes nothing", "[cli][sna
   CHECK_FALSE(fs::exists(tmp.path / "o.obj"));
   // The generalized problem needs a closed mesh.
   write_mesh(tmp.path / "g.obj", grid(Eigen::Vector2d(1, 1), Eigen::Vector2i(5, 5)));
-  const Run g = run_cli(tmp.path, "snap " + tmp.file("g.obj") + " " + tmp.file("g.obj") + " --out " + tmp.file("o.obj") +
-                                      " --problem generalized");
+  const Run g = run_cli(tmp.path, "snap " + tmp.file("g.obj") + " " + tmp.file("g.obj") + " --out " +
+                                      tmp.file("o.obj") + " --problem generalized");
   CHECK(g.code == 2);
   CHECK_THAT(g.err, Catch::Contains("closed"));
   CHECK_FALSE(fs::exists(tmp.path / "o.obj"));
 }
 
-TEST_CASE("snap --mode shape: an exact spin transformation comes back, and an open mesh is refused", "[cli][snap]") {
+TEST_CASE("snap --mode shape: an exact spin transformation comes back, and an open mesh is refused",
+          "[cli][snap]") {
   // Extrusion toward the edit's curvature (Le Folgoc et al. 2019): an edit that is itself a spin
   // transformation of the rest mesh has a half-density the extrusion can reach.
   TempDir tmp;
   write_mesh(tmp.path / "rest.obj", icosphere(3));
-  REQUIRE(run_cli(tmp.path, "spin " + tmp.file("rest.obj") + " --rho-expr '0.1*sin(2*x)' --out " + tmp.file("spin.obj"))
+  REQUIRE(run_cli(tmp.path,
+                  "spin " + tmp.file("rest.obj") + " --rho-expr '0.1*sin(2*x)' --out " + tmp.file("spin.obj"))
               .code == 0);
   const Run r = run_cli(tmp.path, "snap " + tmp.file("rest.obj") + " " + tmp.file("spin.obj") + " --out " +
                                       tmp.file("shape.obj") + " --mode shape --json");

@@ -12,10 +12,10 @@
 #include <string>
 
 #include "cli_support.hpp"
+#include "shared_data.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/metrics/distances.hpp"
-#include "shared_data.hpp"
 
 using namespace spinmotor;
 namespace fs = std::filesystem;
@@ -25,7 +25,6 @@ using spinmotor_test::TempDir;
 
 namespace {
 
-
 const std::string kSpin = std::string(SPINMOTOR_MESHES_DIR) + "/spinxform/";
 
 }  // namespace
@@ -33,8 +32,8 @@ const std::string kSpin = std::string(SPINMOTOR_MESHES_DIR) + "/spinxform/";
 TEST_CASE("spin --rho-image --spinxform reproduces the reference output", "[cli][spin]") {
   SPINMOTOR_REQUIRE_MESHES();
   TempDir tmp;
-  const Run r = run_cli(tmp.path, "spin '" + kSpin + "sphere.obj' --rho-image '" + kSpin + "bumpy.tga' --spinxform --out " +
-                                      tmp.file("bumpy.obj") + " --json");
+  const Run r = run_cli(tmp.path, "spin '" + kSpin + "sphere.obj' --rho-image '" + kSpin +
+                                      "bumpy.tga' --spinxform --out " + tmp.file("bumpy.obj") + " --json");
   INFO(r.err);
   REQUIRE(r.code == 0);
   const auto j = nlohmann::json::parse(r.out);
@@ -42,8 +41,8 @@ TEST_CASE("spin --rho-image --spinxform reproduces the reference output", "[cli]
   CHECK(j["faces"] == 8000);
   CHECK(j["eigen_iterations"] == 3);
   CHECK(j["problem"] == "unweighted");
-  for (const char* key : {"bind_ms", "assembly_ms", "factor_ms", "eigen_ms", "poisson_ms", "total_ms", "eigenvalue",
-                          "eigen_residual"})
+  for (const char* key : {"bind_ms", "assembly_ms", "factor_ms", "eigen_ms", "poisson_ms", "total_ms",
+                          "eigenvalue", "eigen_residual"})
     CHECK(j.contains(key));
   CHECK(j["q_mean"].get<double>() <= 1.052);
   CHECK(j["q_max"].get<double>() < 1.13);
@@ -64,8 +63,8 @@ TEST_CASE("spin with per-face and per-vertex rho files, converged default", "[cl
     std::ofstream g(tmp.path / "rho_f.txt");
     for (Eigen::Index i = 0; i < m.F.rows(); ++i) g << 0.0 << ' ';
   }
-  const Run rv = run_cli(tmp.path, "spin " + tmp.file("sphere.obj") + " --rho-vertices " + tmp.file("rho_v.txt") +
-                                       " --out " + tmp.file("v.obj") + " --json");
+  const Run rv = run_cli(tmp.path, "spin " + tmp.file("sphere.obj") + " --rho-vertices " +
+                                       tmp.file("rho_v.txt") + " --out " + tmp.file("v.obj") + " --json");
   INFO(rv.err);
   REQUIRE(rv.code == 0);
   const auto jv = nlohmann::json::parse(rv.out);
@@ -73,17 +72,19 @@ TEST_CASE("spin with per-face and per-vertex rho files, converged default", "[cl
   CHECK(jv["eigen_residual"].get<double>() < 1e-10);
   CHECK(jv["q_mean"].get<double>() > 1.0);
   // ρ = 0: the output equals the input (same area, same place).
-  const Run rf = run_cli(tmp.path, "spin " + tmp.file("sphere.obj") + " --rho-faces " + tmp.file("rho_f.txt") +
-                                       " --out " + tmp.file("f.obj"));
+  const Run rf = run_cli(tmp.path, "spin " + tmp.file("sphere.obj") + " --rho-faces " +
+                                       tmp.file("rho_f.txt") + " --out " + tmp.file("f.obj"));
   INFO(rf.err);
   REQUIRE(rf.code == 0);
   CHECK(vertex_distances(m.V, read_mesh(tmp.path / "f.obj").V, Alignment::None).rms < 1e-8);
 }
 
-TEST_CASE("spin on an open tube: free boundaries warn, --keep-boundary-tangents stays conformal", "[cli][spin]") {
+TEST_CASE("spin on an open tube: free boundaries warn, --keep-boundary-tangents stays conformal",
+          "[cli][spin]") {
   TempDir tmp;
   write_mesh(tmp.path / "tube.obj", tube(1.0, 10.0, 100, 40, false));
-  const std::string args = "spin " + tmp.file("tube.obj") + " --rho-expr '0.2*exp(-20*((z-5)^2+(x-1)^2))' --json";
+  const std::string args =
+      "spin " + tmp.file("tube.obj") + " --rho-expr '0.2*exp(-20*((z-5)^2+(x-1)^2))' --json";
   const Run free = run_cli(tmp.path, args + " --out " + tmp.file("free.obj"));
   REQUIRE(free.code == 0);
   INFO(free.err);
@@ -94,8 +95,9 @@ TEST_CASE("spin on an open tube: free boundaries warn, --keep-boundary-tangents 
   CHECK(nlohmann::json::parse(kept.out)["q_mean"].get<double>() < 1.01);  // 1.0022 measured
   CHECK(kept.err.empty());
   write_mesh(tmp.path / "sphere.obj", icosphere(2));
-  const Run closed = run_cli(tmp.path, "spin " + tmp.file("sphere.obj") + " --rho-expr 0 --keep-boundary-tangents --out " +
-                                           tmp.file("c.obj"));
+  const Run closed =
+      run_cli(tmp.path, "spin " + tmp.file("sphere.obj") + " --rho-expr 0 --keep-boundary-tangents --out " +
+                            tmp.file("c.obj"));
   CHECK(closed.code == 2);
   CHECK(closed.err.find("no boundary") != std::string::npos);
   CHECK_FALSE(std::filesystem::exists(tmp.path / "c.obj"));
@@ -108,8 +110,8 @@ TEST_CASE("spin errors exit with code 2 and write nothing", "[cli][spin]") {
   m.UV.resize(0, 2);
   m.FUV.resize(0, 3);
   write_mesh(tmp.path / "nouv.obj", m);
-  const Run a = run_cli(tmp.path, "spin " + tmp.file("nouv.obj") + " --rho-image '" + kSpin + "bumpy.tga' --out " +
-                                      tmp.file("a.obj"));
+  const Run a = run_cli(tmp.path, "spin " + tmp.file("nouv.obj") + " --rho-image '" + kSpin +
+                                      "bumpy.tga' --out " + tmp.file("a.obj"));
   CHECK(a.code == 2);
   CHECK(a.err.find("texture coordinates") != std::string::npos);
   CHECK_FALSE(fs::exists(tmp.path / "a.obj"));

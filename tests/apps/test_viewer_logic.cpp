@@ -2,6 +2,8 @@
 // simulated mouse drag gives exactly the translation / rotation it should), undo/redo, the snap
 // worker's stale-result rule, the scene session (pose, undo, save), and — when the viewer is built
 // and xvfb-run exists — the viewer's headless screenshot under Xvfb checked pixel by pixel.
+#include <sys/wait.h>
+
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -11,7 +13,6 @@
 #include <iterator>
 #include <numbers>
 #include <string>
-#include <sys/wait.h>
 
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/generators.hpp"
@@ -419,8 +420,8 @@ TEST_CASE("spinmotor-viewer headless: FFD lattice gizmo, IK target drag, box sel
   auto run = [&](const std::string& name, const std::filesystem::path& scene, const std::string& extra) {
     const auto log = dir / (name + ".log");
     const std::string cmd = "xvfb-run -a " + std::string(SPINMOTOR_VIEWER) + " --scene " + scene.string() +
-                            " --screenshot " + (dir / name).string() + " --size 240x180 --up z --camera 0,10 " +
-                            extra + " > " + log.string() + " 2>&1";
+                            " --screenshot " + (dir / name).string() +
+                            " --size 240x180 --up z --camera 0,10 " + extra + " > " + log.string() + " 2>&1";
     const int rc = std::system(cmd.c_str());
     const std::string text = read_text(log);
     INFO(text);
@@ -436,7 +437,8 @@ TEST_CASE("spinmotor-viewer headless: FFD lattice gizmo, IK target drag, box sel
 
   SECTION("a lattice control dragged through its gizmo bends the mesh as in process") {
     const auto scene = scenes / "sh_tube.json";
-    const std::string log = run("ffd.png", scene, "--deformer ffd --color normals --gizmo ffd[1,1,2],translate,x,4");
+    const std::string log =
+        run("ffd.png", scene, "--deformer ffd --color normals --gizmo ffd[1,1,2],translate,x,4");
     Session s = Session::open(scene);
     const DeformerPreset p = deformer_preset("ffd", s.scene());
     s.set_deformer(p.deformer, p.ik);
@@ -477,7 +479,8 @@ TEST_CASE("spinmotor-viewer headless: FFD lattice gizmo, IK target drag, box sel
   SECTION("a box selection of visible vertices becomes a handle that its gizmo moves") {
     const auto scene = scenes / "sh_tube.json";
     const std::string log =
-        run("box.png", scene, "--color normals --select-box 60,40,180,140 --add-handle mid --gizmo mid,translate,x,0.4");
+        run("box.png", scene,
+            "--color normals --select-box 60,40,180,140 --add-handle mid --gizmo mid,translate,x,0.4");
     Session s = Session::open(scene);
     const render::OrbitCamera cam = render::render_camera(s.rest().V, o);
     const DepthMap depth = DepthMap::render(s.posed(), s.rest().F, cam, W, H);
@@ -487,8 +490,8 @@ TEST_CASE("spinmotor-viewer headless: FFD lattice gizmo, IK target drag, box sel
     CHECK(sel.size() < all.size());  // the far side of the tube is not selected
     CHECK(log.find("selected " + std::to_string(sel.size()) + " visible vertices") != std::string::npos);
     s.add_handle("mid", sel);
-    const auto m = simulated_drag(cam, W, H, GizmoMode::Translate, 0, *s.posed_anchor("mid"), 0.25 * cam.scene_radius,
-                                  s.motor("mid"), 0.4);
+    const auto m = simulated_drag(cam, W, H, GizmoMode::Translate, 0, *s.posed_anchor("mid"),
+                                  0.25 * cam.scene_radius, s.motor("mid"), 0.4);
     REQUIRE(m);
     s.set_motor("mid", *m);
     const Eigen::MatrixXd V = s.posed();
@@ -503,7 +506,8 @@ TEST_CASE("spinmotor-viewer headless: FFD lattice gizmo, IK target drag, box sel
     Eigen::Index best = 0;
     for (Eigen::Index i = 0; i < s.rest().V.rows(); ++i) {  // nearest the eye at z ≈ 2
       const Vector3d p = s.rest().V.row(i).transpose();
-      if (std::abs(p.z() - 2) < 0.1 && (p - cam.eye()).norm() < (Vector3d(s.rest().V.row(best)) - cam.eye()).norm())
+      if (std::abs(p.z() - 2) < 0.1 &&
+          (p - cam.eye()).norm() < (Vector3d(s.rest().V.row(best)) - cam.eye()).norm())
         best = i;
     }
     const Vector3d px = cam.project(s.rest().V.row(best).transpose(), W, H);
@@ -515,7 +519,8 @@ TEST_CASE("spinmotor-viewer headless: FFD lattice gizmo, IK target drag, box sel
     const auto pos = log.find("spin transformation Q_mean ");
     REQUIRE(pos != std::string::npos);
     double q = 0, moved = 0;
-    REQUIRE(std::sscanf(log.c_str() + pos, "spin transformation Q_mean %lf, max displacement %lf", &q, &moved) == 2);
+    REQUIRE(std::sscanf(log.c_str() + pos, "spin transformation Q_mean %lf, max displacement %lf", &q,
+                        &moved) == 2);
     CHECK(q < 1.02);      // 1.0116 here (a coarse 962-vertex tube; amount 3 gives 1.125: the discrete
     CHECK(moved > 0.05);  // spin transformation is conformal only up to the mesh's resolution)
     CHECK(warm(read_png(dir / "paint_q.png")) < 0.05);  // conformal: Q colours stay cold
@@ -532,15 +537,16 @@ TEST_CASE("spinmotor-viewer headless: FFD lattice gizmo, IK target drag, box sel
       const char* args;
       const char* says;
     };
-    for (const Bad& b : {Bad{"--paint 1,1,0.3,1", "misses the mesh"}, Bad{"--paint 120,90,0.3", "expected 4 numbers"},
-                         Bad{"--select-box 1,2,3", "expected 4 numbers"}, Bad{"--add-handle h", "needs --select-box"},
-                         Bad{"--gizmo nope,translate,x,1", "not a control"}, Bad{"--snap --paint 120,90,0.3,1", "give one"},
-                         Bad{"--deformer skin", "skeleton"}}) {
+    for (const Bad& b :
+         {Bad{"--paint 1,1,0.3,1", "misses the mesh"}, Bad{"--paint 120,90,0.3", "expected 4 numbers"},
+          Bad{"--select-box 1,2,3", "expected 4 numbers"}, Bad{"--add-handle h", "needs --select-box"},
+          Bad{"--gizmo nope,translate,x,1", "not a control"}, Bad{"--snap --paint 120,90,0.3,1", "give one"},
+          Bad{"--deformer skin", "skeleton"}}) {
       INFO(b.args);
       const auto png = dir / "bad.png", log = dir / "bad.log";
       const std::string cmd = "xvfb-run -a " + std::string(SPINMOTOR_VIEWER) + " --scene " + scene.string() +
-                              " --screenshot " + png.string() + " --size 240x180 --up z --camera 0,10 " + b.args +
-                              " > " + log.string() + " 2>&1";
+                              " --screenshot " + png.string() + " --size 240x180 --up z --camera 0,10 " +
+                              b.args + " > " + log.string() + " 2>&1";
       const int status = std::system(cmd.c_str());
       const std::string text = read_text(log);
       INFO(text);

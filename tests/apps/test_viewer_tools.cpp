@@ -42,7 +42,9 @@ Vector3d centroid(const Eigen::MatrixXd& V, const std::vector<int>& idx) {
   return c / double(idx.size());
 }
 
-ga::Mot translation(const Vector3d& t) { return ga::from_isometry(Eigen::Isometry3d(Eigen::Translation3d(t))); }
+ga::Mot translation(const Vector3d& t) {
+  return ga::from_isometry(Eigen::Isometry3d(Eigen::Translation3d(t)));
+}
 }  // namespace
 
 TEST_CASE("point in polygon: convex, concave, outside", "[viewer][selection]") {
@@ -56,7 +58,8 @@ TEST_CASE("point in polygon: convex, concave, outside", "[viewer][selection]") {
   CHECK_FALSE(point_in_polygon({2, 2}, ell));  // the notch
 }
 
-TEST_CASE("depth map of a sphere: the nearest depth at the centre pixel, background elsewhere", "[viewer][selection]") {
+TEST_CASE("depth map of a sphere: the nearest depth at the centre pixel, background elsewhere",
+          "[viewer][selection]") {
   const Mesh s = icosphere(4);
   const render::OrbitCamera cam = sphere_camera();
   const DepthMap d = DepthMap::render(s.V, s.F, cam, 320, 240);
@@ -156,7 +159,8 @@ TEST_CASE("paint_rho: a smooth bump of the given height and radius", "[viewer][p
   CHECK_THROWS_AS(paint_rho(s.V, s.F, c, 0.5, std::nan(""), rho), Error);
 }
 
-TEST_CASE("paint worker: rho = 0 keeps the mesh, a painted bump moves it and stays conformal", "[viewer][paint]") {
+TEST_CASE("paint worker: rho = 0 keeps the mesh, a painted bump moves it and stays conformal",
+          "[viewer][paint]") {
   const Mesh s = icosphere(3);
   SpinPaintWorker worker(s);
   worker.request(Eigen::VectorXd::Zero(s.F.rows()));
@@ -214,7 +218,8 @@ TEST_CASE("ffd lattice edges: neighbours one step apart on one axis", "[viewer]"
   std::vector<std::string> names;
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b)
-      for (int c = 0; c < 3; ++c) names.push_back("ffd[" + std::to_string(a) + "," + std::to_string(b) + "," + std::to_string(c) + "]");
+      for (int c = 0; c < 3; ++c)
+        names.push_back("ffd[" + std::to_string(a) + "," + std::to_string(b) + "," + std::to_string(c) + "]");
   names.push_back("tip");
   names.push_back("ffd[0,0,0]x");
   const auto e = ffd_lattice_edges(names);
@@ -247,7 +252,8 @@ TEST_CASE("deformer options come from the scene schema", "[viewer][deformer]") {
   CHECK_THROWS_AS(deformer_options("nope", {}), Error);
 }
 
-TEST_CASE("deformer presets bind on a two-handle scene, with their controls and anchors", "[viewer][deformer]") {
+TEST_CASE("deformer presets bind on a two-handle scene, with their controls and anchors",
+          "[viewer][deformer]") {
   Session s = Session::open(kScenes / "sh_tube.json");  // tube r = 0.5, z ∈ [0, 4], handles base, tip
   const Eigen::MatrixXd R = s.rest().V;
   const Eigen::RowVector3d lo = R.colwise().minCoeff(), hi = R.colwise().maxCoeff();
@@ -279,7 +285,8 @@ TEST_CASE("deformer presets bind on a two-handle scene, with their controls and 
   // Bézier weights are non-negative and the blend of pure translations is their weighted sum: every
   // vertex moves along +y only, by 0.4 times its weight of that control.
   s.set_motor("ffd[1,1,1]", translation({0, 0.4, 0}));
-  CHECK((*s.posed_anchor("ffd[1,1,1]") - *s.control_anchor("ffd[1,1,1]") - Vector3d(0, 0.4, 0)).norm() < 1e-12);
+  CHECK((*s.posed_anchor("ffd[1,1,1]") - *s.control_anchor("ffd[1,1,1]") - Vector3d(0, 0.4, 0)).norm() <
+        1e-12);
   const Eigen::MatrixXd D = s.posed() - R;
   CHECK(D.col(0).cwiseAbs().maxCoeff() < 1e-12);
   CHECK(D.col(2).cwiseAbs().maxCoeff() < 1e-12);
@@ -350,7 +357,8 @@ TEST_CASE("the IK target is a control: dragging its gizmo re-solves FABRIK and t
   render::OrbitCamera cam;
   cam.target = Vector3d(0, 0, 2);
   cam.distance = 9, cam.azimuth_deg = 30, cam.elevation_deg = 20, cam.scene_radius = 2.5;
-  const auto m = simulated_drag(cam, 640, 480, GizmoMode::Translate, 1, target0, 0.5, s.motor("ik.target"), 0.6);
+  const auto m =
+      simulated_drag(cam, 640, 480, GizmoMode::Translate, 1, target0, 0.5, s.motor("ik.target"), 0.6);
   REQUIRE(m);
   s.set_motor("ik.target", *m);
   s.commit_pose();

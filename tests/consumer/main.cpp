@@ -1,9 +1,8 @@
 // Uses the installed headers and libraries: builds a mesh, reads its topology, checks a number.
+#include <iostream>
 #include <spinmotor/core/error.hpp>
 #include <spinmotor/mesh/mesh.hpp>
 #include <spinmotor/mesh/topology.hpp>
-
-#include <iostream>
 
 int main() {
   spinmotor::Mesh m;

@@ -7,13 +7,13 @@
 #include <filesystem>
 #include <random>
 
-#include "spinmotor/deform/arap.hpp"
+#include "shared_data.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/deform/arap.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/metrics/edge_distortion.hpp"
 #include "spinmotor/mesh/topology.hpp"
-#include "shared_data.hpp"
 
 using namespace spinmotor;
 
@@ -57,7 +57,8 @@ struct ReferenceArap {
   std::vector<int> constrained;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
 
-  ReferenceArap(const Mesh& m, bool spokes_and_rims, const std::vector<int>& cons) : P(m.V), constrained(cons) {
+  ReferenceArap(const Mesh& m, bool spokes_and_rims, const std::vector<int>& cons)
+      : P(m.V), constrained(cons) {
     const int n = static_cast<int>(m.V.rows());
     cells.resize(n);
     for (int t = 0; t < m.F.rows(); ++t)
@@ -66,7 +67,8 @@ struct ReferenceArap {
         const Eigen::Vector3d e1 = P.row(u) - P.row(a), e2 = P.row(v) - P.row(a);
         const double c = 0.5 * e1.dot(e2) / e1.cross(e2).norm();  // ½ cot of the angle at a
         if (spokes_and_rims) {
-          for (int q = 0; q < 3; ++q) cells[m.F(t, q)].push_back({u, v, c});  // edge (u, v) in all three cells
+          for (int q = 0; q < 3; ++q)
+            cells[m.F(t, q)].push_back({u, v, c});  // edge (u, v) in all three cells
         } else {
           cells[u].push_back({u, v, c});  // spoke u–v of cell u and of cell v
           cells[v].push_back({v, u, c});
@@ -104,7 +106,8 @@ struct ReferenceArap {
 
   Eigen::Matrix3d covariance(int i, const Eigen::MatrixXd& X) const {
     Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
-    for (const Term& e : cells[i]) S += e.c * (P.row(e.u) - P.row(e.v)).transpose() * (X.row(e.u) - X.row(e.v));
+    for (const Term& e : cells[i])
+      S += e.c * (P.row(e.u) - P.row(e.v)).transpose() * (X.row(e.u) - X.row(e.v));
     return S;
   }
   static Eigen::Matrix3d svd_rotation(const Eigen::Matrix3d& S) {
@@ -121,7 +124,8 @@ struct ReferenceArap {
     double E = 0;
     for (std::size_t i = 0; i < cells.size(); ++i)
       for (const Term& e : cells[i])
-        E += e.c * ((X.row(e.u) - X.row(e.v)).transpose() - R[i] * (P.row(e.u) - P.row(e.v)).transpose()).squaredNorm();
+        E += e.c * ((X.row(e.u) - X.row(e.v)).transpose() - R[i] * (P.row(e.u) - P.row(e.v)).transpose())
+                       .squaredNorm();
     return E;
   }
   Eigen::MatrixXd global(const Eigen::MatrixXd& X, const std::vector<Eigen::Matrix3d>& R) const {
@@ -133,7 +137,8 @@ struct ReferenceArap {
         if (free_of[e.v] >= 0) b.row(free_of[e.v]) -= r;
       }
     Eigen::MatrixXd XC(static_cast<Eigen::Index>(constrained.size()), 3);
-    for (std::size_t r = 0; r < constrained.size(); ++r) XC.row(static_cast<Eigen::Index>(r)) = X.row(constrained[r]);
+    for (std::size_t r = 0; r < constrained.size(); ++r)
+      XC.row(static_cast<Eigen::Index>(r)) = X.row(constrained[r]);
     const Eigen::MatrixXd XF = ldlt.solve(b - K_FC * XC);
     Eigen::MatrixXd Y = X;
     for (std::size_t r = 0; r < free.size(); ++r) Y.row(free[r]) = XF.row(static_cast<Eigen::Index>(r));
@@ -177,8 +182,8 @@ TEST_CASE("ARAP: all handles moved by one rigid motion move the whole mesh rigid
       Eigen::MatrixXd V;
       d.pose(motors, V);
       const ArapReport& r = d.report();
-      INFO(option_name(energy) << ", initial " << option_name(initial) << ": " << r.iterations << " iterations, E_0 "
-                             << r.energy.front() << ", E " << r.energy.back());
+      INFO(option_name(energy) << ", initial " << option_name(initial) << ": " << r.iterations
+                               << " iterations, E_0 " << r.energy.front() << ", E " << r.energy.back());
       CHECK(r.converged);
       CHECK(r.energy.back() <= 1e-20);
       CHECK((V - target).cwiseAbs().maxCoeff() < 1e-9);
@@ -187,15 +192,18 @@ TEST_CASE("ARAP: all handles moved by one rigid motion move the whole mesh rigid
       const ga::Rot q = ga::rotor_part(M);
       double worst = 0;
       for (const ga::Rot& p : d.rotors())
-        worst = std::max(worst, 1.0 - std::abs(p.w() * q.w() + p.x() * q.x() + p.y() * q.y() + p.z() * q.z()));
+        worst =
+            std::max(worst, 1.0 - std::abs(p.w() * q.w() + p.x() * q.x() + p.y() * q.y() + p.z() * q.z()));
       CHECK(worst < 1e-12);
     }
 }
 
-TEST_CASE("ARAP: the energy never increases on a bent tube and matches the term-by-term evaluation", "[arap]") {
+TEST_CASE("ARAP: the energy never increases on a bent tube and matches the term-by-term evaluation",
+          "[arap]") {
   const Mesh m = tube(0.5, 4.0, 24, 16);
   const std::vector<Handle> hs = {z_slab(m, 0.0, 0.05, "bottom"), z_slab(m, 0.95, 1.0, "top")};
-  const std::vector<ga::Mot> motors = {ga::Mot(1, 0, 0, 0, 0, 0, 0, 0), rigid({0, 1, 0}, 60.0, {1.5, 0, -0.5})};
+  const std::vector<ga::Mot> motors = {ga::Mot(1, 0, 0, 0, 0, 0, 0, 0),
+                                       rigid({0, 1, 0}, 60.0, {1.5, 0, -0.5})};
   for (ArapEnergy energy : {ArapEnergy::Spokes, ArapEnergy::SpokesAndRims}) {
     ArapDeformer::Options o;
     o.energy = energy;
@@ -213,8 +221,9 @@ TEST_CASE("ARAP: the energy never increases on a bent tube and matches the term-
     CHECK(E.back() > 0);
     // The reported energy (expanded form, per cell) equals a fresh term-by-term evaluation.
     CHECK(d.energy(V) == Approx(E.back()).epsilon(1e-11));
-    std::printf("[arap] bent tube (%s, %lld vertices): E_0 = %.6g, E_10 = %.6g, E_60 = %.6g\n", std::string(option_name(energy)).c_str(),
-                static_cast<long long>(m.V.rows()), E[0], E[10], E[60]);
+    std::printf("[arap] bent tube (%s, %lld vertices): E_0 = %.6g, E_10 = %.6g, E_60 = %.6g\n",
+                std::string(option_name(energy)).c_str(), static_cast<long long>(m.V.rows()), E[0], E[10],
+                E[60]);
   }
 }
 
@@ -222,7 +231,8 @@ TEST_CASE("ARAP: iterates and converged energy equal an independent SVD + Simpli
           "[arap]") {
   const Mesh m = tube(0.5, 3.0, 10, 8);
   const std::vector<Handle> hs = {z_slab(m, 0.0, 0.08, "bottom"), z_slab(m, 0.92, 1.0, "top")};
-  const std::vector<ga::Mot> motors = {rigid({0, 0, 1}, -20.0, {0, 0, 0}), rigid({1, 0, 0}, 50.0, {0, 0.8, -0.3})};
+  const std::vector<ga::Mot> motors = {rigid({0, 0, 1}, -20.0, {0, 0, 0}),
+                                       rigid({1, 0, 0}, 50.0, {0, 0.8, -0.3})};
   for (ArapEnergy energy : {ArapEnergy::Spokes, ArapEnergy::SpokesAndRims}) {
     const bool sr = energy == ArapEnergy::SpokesAndRims;
     ArapDeformer::Options o;
@@ -250,13 +260,15 @@ TEST_CASE("ARAP: iterates and converged energy equal an independent SVD + Simpli
       if (k < 30) worst = std::max(worst, std::abs(E_ref - r.energy[k]) / r.energy[k]);
       if (k < n_iter) X = ref.global(X, R);
     }
-    INFO(option_name(energy) << ": " << n_iter << " iterations, E " << r.energy.back() << " vs reference " << E_ref);
+    INFO(option_name(energy) << ": " << n_iter << " iterations, E " << r.energy.back() << " vs reference "
+                             << E_ref);
     CHECK(r.converged);
     CHECK(worst < 1e-9);
     CHECK(std::abs(E_ref - r.energy.back()) <= 1e-8 * E_ref);
     CHECK((X - V).cwiseAbs().maxCoeff() < 1e-6);
     std::printf("[arap] independent reference (%s): %d iterations, E = %.12g vs %.12g (rel. diff %.2e)\n",
-                std::string(option_name(energy)).c_str(), n_iter, r.energy.back(), E_ref, std::abs(E_ref - r.energy.back()) / E_ref);
+                std::string(option_name(energy)).c_str(), n_iter, r.energy.back(), E_ref,
+                std::abs(E_ref - r.energy.back()) / E_ref);
   }
 }
 
@@ -283,10 +295,11 @@ TEST_CASE("ARAP: a bar bent 90 degrees by its end handles keeps its edge lengths
     const EdgeDistortionSummary ed = edge_distortion_summary(m.V, m.F, V);
     iterations[initial == ArapInitial::Harmonic] = d.report().iterations;
     std::printf(
-        "[arap] cross bar bent 90 deg (%lld vertices, initial %s): %d iterations, E %.6g, max |l'/l - 1| = %.4f, "
+        "[arap] cross bar bent 90 deg (%lld vertices, initial %s): %d iterations, E %.6g, max |l'/l - 1| = "
+        "%.4f, "
         "mean |log| edge distortion %.4f\n",
-        static_cast<long long>(m.V.rows()), std::string(option_name(initial)).c_str(), d.report().iterations, d.report().energy.back(),
-        strain, ed.mean_abs);
+        static_cast<long long>(m.V.rows()), std::string(option_name(initial)).c_str(), d.report().iterations,
+        d.report().energy.back(), strain, ed.mean_abs);
     CHECK(d.report().converged);
     CHECK(strain < 0.05);
     CHECK(strain < 1.3 * c / Rb);
@@ -310,7 +323,8 @@ TEST_CASE("ARAP: negative cotangent weights kept or clamped, energy monotone eit
   }
   const std::vector<Handle> hs = {{"left", Eigen::Map<Eigen::VectorXi>(left.data(), left.size())},
                                   {"right", Eigen::Map<Eigen::VectorXi>(right.data(), right.size())}};
-  const std::vector<ga::Mot> motors = {ga::Mot(1, 0, 0, 0, 0, 0, 0, 0), rigid({0, 1, 0}, 45.0, {-0.2, 0, 0.6})};
+  const std::vector<ga::Mot> motors = {ga::Mot(1, 0, 0, 0, 0, 0, 0, 0),
+                                       rigid({0, 1, 0}, 45.0, {-0.2, 0, 0.6})};
   for (ArapEnergy energy : {ArapEnergy::Spokes, ArapEnergy::SpokesAndRims})
     for (bool clamp : {false, true}) {
       ArapDeformer::Options o;
@@ -464,7 +478,8 @@ TEST_CASE("ARAP: the previous initial guess warm-starts a sequence of poses", "[
     ArapDeformer d = ArapDeformer::bind(m, hs, o);
     Eigen::MatrixXd V;
     for (int frame = 0; frame <= 5; ++frame) {  // the top turns by 10° per frame
-      d.pose(std::vector<ga::Mot>{ga::Mot(1, 0, 0, 0, 0, 0, 0, 0), rigid({0, 1, 0}, 10.0 * frame, {0, 0, 0})}, V);
+      d.pose(std::vector<ga::Mot>{ga::Mot(1, 0, 0, 0, 0, 0, 0, 0), rigid({0, 1, 0}, 10.0 * frame, {0, 0, 0})},
+             V);
       if (frame > 0) iterations[initial == ArapInitial::Previous] += d.report().iterations;
     }
   }

@@ -150,13 +150,14 @@ TEST_CASE("Horn's rotor on rank-deficient covariances: flat (rank 2) unique, col
   CHECK(worst_family < 1e-10);
 }
 
-TEST_CASE("Horn's rotor: reflection ties, zero covariance, and warm-started exact rotations", "[arap][rotation]") {
+TEST_CASE("Horn's rotor: reflection ties, zero covariance, and warm-started exact rotations",
+          "[arap][rotation]") {
   std::mt19937 rng(5);
   // S = U diag(2, 1, −1)ᵀ-like with det < 0 and σ2 = σ3: a one-parameter family, energy still optimal.
   for (int t = 0; t < 200; ++t) {
     const Eigen::Matrix3d U = random_rotation(rng), V = random_rotation(rng);
-    const Eigen::Matrix3d S = U * Eigen::Vector3d(2.0, 1.0, 1.0).asDiagonal() * Eigen::Vector3d(1, 1, -1).asDiagonal() *
-                              V.transpose();
+    const Eigen::Matrix3d S = U * Eigen::Vector3d(2.0, 1.0, 1.0).asDiagonal() *
+                              Eigen::Vector3d(1, 1, -1).asDiagonal() * V.transpose();
     const SvdAnswer ref = svd_rotation(S);
     const Eigen::Matrix3d R = rotation_matrix(best_rotation(S, random_rotor(rng)));
     CHECK(ref.gap < 1e-12);
@@ -165,7 +166,9 @@ TEST_CASE("Horn's rotor: reflection ties, zero covariance, and warm-started exac
   // S = 0: every rotation is optimal; the warm rotor comes back.
   const ga::Rot w = random_rotor(rng);
   const ga::Rot q = best_rotation(Eigen::Matrix3d::Zero(), w);
-  CHECK(std::abs(q.w() - w.w()) + std::abs(q.x() - w.x()) + std::abs(q.y() - w.y()) + std::abs(q.z() - w.z()) == 0.0);
+  CHECK(std::abs(q.w() - w.w()) + std::abs(q.x() - w.x()) + std::abs(q.y() - w.y()) +
+            std::abs(q.z() - w.z()) ==
+        0.0);
   // Warm start at (near) the answer: the fast path answers in ≤ 3 Newton steps and agrees with a cold start.
   int fast = 0;
   for (int t = 0; t < 1000; ++t) {

@@ -2,14 +2,13 @@
 // §VI): mean value coordinates reproduce linear functions and interpolate the cage; harmonic
 // coordinates are non-negative, sum to 1, interpolate the cage vertices and reproduce the mesh within
 // the stated grid interpolation bound; rigid motions; cage and containment errors.
-#include <catch2/catch.hpp>
-
 #include <Eigen/Geometry>
+#include <catch2/catch.hpp>
 #include <cmath>
 
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/deform/cage_coordinates.hpp"
 #include "spinmotor/deform/cage_deformer.hpp"
-#include "spinmotor/core/error.hpp"
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/generators.hpp"
 
@@ -30,11 +29,11 @@ Mesh dented_cube() {
   m.V.resize(9, 3);
   m.V << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1, 0.5, 0.5, 0.7;
   m.F.resize(14, 3);
-  m.F << 0, 2, 1, 0, 3, 2,  // bottom (z = 0), normal −z
-      0, 1, 5, 0, 5, 4,     // y = 0
-      1, 2, 6, 1, 6, 5,     // x = 1
-      2, 3, 7, 2, 7, 6,     // y = 1
-      3, 0, 4, 3, 4, 7,     // x = 0
+  m.F << 0, 2, 1, 0, 3, 2,                 // bottom (z = 0), normal −z
+      0, 1, 5, 0, 5, 4,                    // y = 0
+      1, 2, 6, 1, 6, 5,                    // x = 1
+      2, 3, 7, 2, 7, 6,                    // y = 1
+      3, 0, 4, 3, 4, 7,                    // x = 0
       4, 5, 8, 5, 6, 8, 6, 7, 8, 7, 4, 8;  // dented top
   return m;
 }
@@ -54,7 +53,8 @@ TEST_CASE("cage: closed, consistently and outward oriented cages only", "[cage]"
   CHECK_THROWS_WITH(check_cage(open.V, open.F), Catch::Contains("not closed"));
   Mesh flipped = c;
   flipped.F.row(5) = Eigen::RowVector3i(c.F(5, 0), c.F(5, 2), c.F(5, 1));
-  CHECK_THROWS_WITH(check_cage(flipped.V, flipped.F), Catch::Contains("not consistently oriented") && Catch::Contains("face"));
+  CHECK_THROWS_WITH(check_cage(flipped.V, flipped.F),
+                    Catch::Contains("not consistently oriented") && Catch::Contains("face"));
   Mesh inverted = c;
   inverted.F.col(1).swap(inverted.F.col(2));
   CHECK_THROWS_WITH(check_cage(inverted.V, inverted.F), Catch::Contains("inwards"));
@@ -90,7 +90,8 @@ TEST_CASE("MVC: linear precision, partition of unity, interpolation of the cage"
   CHECK(std::abs(W(1, cage.F(4, 2)) - 0.5) < 1e-10);
 }
 
-TEST_CASE("HC: non-negative, partition of unity, cage interpolation, mesh within the stated bound", "[cage][hc]") {
+TEST_CASE("HC: non-negative, partition of unity, cage interpolation, mesh within the stated bound",
+          "[cage][hc]") {
   const Mesh cage = cage_mesh(), inner = inner_mesh();
   const int grid = 32;
   const MatrixXd W = harmonic_cage_coordinates(cage.V, cage.F, inner.V, grid);
@@ -105,10 +106,12 @@ TEST_CASE("HC: non-negative, partition of unity, cage interpolation, mesh within
   const MatrixXd Wc = harmonic_cage_coordinates(cage.V, cage.F, cage.V * (1 - 1e-9), grid);
   double emin = INFINITY;
   for (Index f = 0; f < cage.F.rows(); ++f)
-    for (int c = 0; c < 3; ++c) emin = std::min(emin, (cage.V.row(cage.F(f, c)) - cage.V.row(cage.F(f, (c + 1) % 3))).norm());
+    for (int c = 0; c < 3; ++c)
+      emin = std::min(emin, (cage.V.row(cage.F(f, c)) - cage.V.row(cage.F(f, (c + 1) % 3))).norm());
   double dev = 0.0;
   for (Index j = 0; j < cage.V.rows(); ++j) dev = std::max(dev, 1.0 - Wc(j, j));
-  WARN("HC grid " << grid << ": max 1 − λ_j(C_j) = " << dev << " (tolerance √3h/e_min = " << bound / emin << ")");
+  WARN("HC grid " << grid << ": max 1 − λ_j(C_j) = " << dev << " (tolerance √3h/e_min = " << bound / emin
+                  << ")");
   CHECK(dev <= bound / emin);
   // finer grids interpolate better
   const MatrixXd W2 = harmonic_cage_coordinates(cage.V, cage.F, inner.V, 48);

@@ -2,14 +2,13 @@
 // motor field engine (deform/motor_blend_field.hpp): identity, rigid motion, handle exactness, the
 // closed form for translations, agreement of the fast per-vertex path with ga::blend, the §III.A
 // rest-pose binding, and the errors.
-#include <catch2/catch.hpp>
-
 #include <Eigen/Core>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
 
-#include "spinmotor/deform/surface_harmonic.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/deform/surface_harmonic.hpp"
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/generators.hpp"
 
@@ -41,7 +40,9 @@ ga::Mot screw(const Vector3d& axis, double degrees, const Vector3d& about, const
 }
 
 const ga::Blend kModes[] = {ga::Blend::Log, ga::Blend::PivotLog, ga::Blend::Linear};
-const char* name(ga::Blend b) { return b == ga::Blend::Log ? "log" : b == ga::Blend::PivotLog ? "pivot-log" : "linear"; }
+const char* name(ga::Blend b) {
+  return b == ga::Blend::Log ? "log" : b == ga::Blend::PivotLog ? "pivot-log" : "linear";
+}
 
 MatrixXd apply(const ga::Mot& m, const MatrixXd& V) {
   MatrixXd out(V.rows(), 3);
@@ -82,10 +83,9 @@ TEST_CASE("equal rigid motors on all handles move the mesh rigidly", "[deform][s
 TEST_CASE("handle vertices follow their own motor exactly", "[deform][surface-harmonic]") {
   const Mesh m = tube(0.5, 4.0, kRings, kSides, true);
   const auto h = four_handles();
-  const std::vector<ga::Mot> motors = {screw({0, 0, 1}, 0, {0, 0, 0}, {0, 0, 0}),
-                                       screw({1, 0, 0}, 75, {0, 0, 4}, {0, 0.8, 0.2}),
-                                       screw({0, 1, 1}, -40, {0.5, 0, 2}, {0.3, 0, 0}),
-                                       screw({1, 1, 0}, 170, {0, 0.5, 1.4}, {0, -0.2, 0.1})};
+  const std::vector<ga::Mot> motors = {
+      screw({0, 0, 1}, 0, {0, 0, 0}, {0, 0, 0}), screw({1, 0, 0}, 75, {0, 0, 4}, {0, 0.8, 0.2}),
+      screw({0, 1, 1}, -40, {0.5, 0, 2}, {0.3, 0, 0}), screw({1, 1, 0}, 170, {0, 0.5, 1.4}, {0, -0.2, 0.1})};
   for (ga::Blend mode : kModes) {
     CAPTURE(name(mode));
     auto d = SurfaceHarmonicDeformer::bind(m, h, {.blend = mode});
@@ -101,7 +101,8 @@ TEST_CASE("handle vertices follow their own motor exactly", "[deform][surface-ha
     // Elsewhere the motors mix: a free vertex moves by none of the handle motors.
     const int free_vertex = 30 * kSides + 6;
     for (const ga::Mot& M : motors)
-      CHECK((V.row(free_vertex).transpose() - ga::transform(M, m.V.row(free_vertex).transpose())).norm() > 1e-3);
+      CHECK((V.row(free_vertex).transpose() - ga::transform(M, m.V.row(free_vertex).transpose())).norm() >
+            1e-3);
   }
 }
 
@@ -114,7 +115,8 @@ TEST_CASE("translations blend to the harmonic interpolation of the offsets", "[d
   MatrixXd T(4, 3);
   T << 0, 0, 0, 0.5, -1, 2, 1, 0, 0, 0, 0.25, -0.5;
   std::vector<ga::Mot> motors;
-  for (int j = 0; j < 4; ++j) motors.push_back(ga::motor(ga::Rot(1, 0, 0, 0), ga::translator(T.row(j).transpose())));
+  for (int j = 0; j < 4; ++j)
+    motors.push_back(ga::motor(ga::Rot(1, 0, 0, 0), ga::translator(T.row(j).transpose())));
   for (ga::Blend mode : kModes) {
     CAPTURE(name(mode));
     auto d = SurfaceHarmonicDeformer::bind(m, h, {.blend = mode});
@@ -132,7 +134,8 @@ TEST_CASE("the per-vertex fast path equals ga::blend vertex by vertex", "[deform
   std::uniform_real_distribution<double> u(-1, 1);
   std::vector<ga::Mot> motors;
   for (int j = 0; j < 4; ++j)
-    motors.push_back(screw({u(rng), u(rng), u(rng)}, 170 * u(rng), {u(rng), u(rng), 2 + u(rng)}, {u(rng), u(rng), u(rng)}));
+    motors.push_back(screw({u(rng), u(rng), u(rng)}, 170 * u(rng), {u(rng), u(rng), 2 + u(rng)},
+                           {u(rng), u(rng), u(rng)}));
   for (ga::Blend mode : kModes) {
     CAPTURE(name(mode));
     auto d = SurfaceHarmonicDeformer::bind(m, h, {.blend = mode});
@@ -140,18 +143,20 @@ TEST_CASE("the per-vertex fast path equals ga::blend vertex by vertex", "[deform
     d.pose(motors, V);
     double err = 0;
     for (Index i = 0; i < m.V.rows(); ++i)
-      err = std::max(err, (V.row(i).transpose() - ga::transform(d.field().vertex_motor(i, motors), m.V.row(i).transpose()))
+      err = std::max(err, (V.row(i).transpose() -
+                           ga::transform(d.field().vertex_motor(i, motors), m.V.row(i).transpose()))
                               .norm());
     CHECK(err < 1e-12);
   }
 }
 
-TEST_CASE("rest-pose binding (§III.A): posing with the rest motors gives the rest mesh", "[deform][surface-harmonic]") {
+TEST_CASE("rest-pose binding (§III.A): posing with the rest motors gives the rest mesh",
+          "[deform][surface-harmonic]") {
   const Mesh m = tube(0.5, 4.0, kRings, kSides, true);
   const auto h = four_handles();
-  const std::vector<ga::Mot> rest = {screw({0, 0, 1}, 20, {0, 0, 0}, {0, 0, 0}), screw({1, 0, 0}, 30, {0, 0, 4}, {0, 0, 0}),
-                                     screw({0, 1, 0}, -15, {0.5, 0, 2}, {0.1, 0, 0}),
-                                     screw({1, 1, 0}, 45, {0, 0.5, 1.4}, {0, 0, 0.3})};
+  const std::vector<ga::Mot> rest = {
+      screw({0, 0, 1}, 20, {0, 0, 0}, {0, 0, 0}), screw({1, 0, 0}, 30, {0, 0, 4}, {0, 0, 0}),
+      screw({0, 1, 0}, -15, {0.5, 0, 2}, {0.1, 0, 0}), screw({1, 1, 0}, 45, {0, 0.5, 1.4}, {0, 0, 0.3})};
   for (ga::Blend mode : kModes) {
     CAPTURE(name(mode));
     auto d = SurfaceHarmonicDeformer::bind(m, h, {.blend = mode, .rest_motors = rest});

@@ -2,7 +2,6 @@
 // exactly as the concrete type, controls carry the documented names and rest anchors, the IK-driven
 // spline is one deformer, and every option enum has one name table.
 #include <catch2/catch.hpp>
-
 #include <numbers>
 
 #include "spinmotor/deform/any_deformer.hpp"
@@ -37,8 +36,8 @@ namespace {
 const ga::Mot kIdentity(1, 0, 0, 0, 0, 0, 0, 0);
 
 ga::Mot rigid(const Vector3d& axis, double degrees, const Vector3d& t) {
-  return ga::from_isometry(Eigen::Isometry3d(Eigen::Translation3d(t) *
-                                             Eigen::AngleAxisd(degrees * std::numbers::pi / 180, axis.normalized())));
+  return ga::from_isometry(Eigen::Isometry3d(
+      Eigen::Translation3d(t) * Eigen::AngleAxisd(degrees * std::numbers::pi / 180, axis.normalized())));
 }
 
 /// The tube's rings at z = 0 and z = length.
@@ -71,7 +70,8 @@ void same_through_any(D direct, D erased, std::span<const ga::Mot> motors) {
 
 }  // namespace
 
-TEST_CASE("every deformer poses the same through AnyDeformer, with named, anchored controls", "[deform][shape]") {
+TEST_CASE("every deformer poses the same through AnyDeformer, with named, anchored controls",
+          "[deform][shape]") {
   const Mesh tube = spinmotor::tube(0.25, 4.0, 41, 12);
   const auto ends = end_rings(tube, 4.0);
   const Rig rig{.handles = ends};
@@ -174,10 +174,12 @@ TEST_CASE("spline IK is one deformer: the tip lands on the moved target, identit
   CHECK_THROWS_WITH(d.pose(std::vector<ga::Mot>{}, V), Catch::Contains("expected 1 motors"));
   Rig no_ik{.handles = rig.handles};
   CHECK_THROWS_WITH(SplineIkDeformer::bind(tube, no_ik, {}), Catch::Contains("no ik chain"));
-  CHECK_THROWS_WITH(SplineIkDeformer::bind(tube, rig, {.controls = 3}), Catch::Contains("needs at least 4 controls"));
+  CHECK_THROWS_WITH(SplineIkDeformer::bind(tube, rig, {.controls = 3}),
+                    Catch::Contains("needs at least 4 controls"));
 }
 
-TEST_CASE("option tables: every name parses back to its value, unknown names list the choices", "[deform][options]") {
+TEST_CASE("option tables: every name parses back to its value, unknown names list the choices",
+          "[deform][options]") {
   auto roundtrip = [](auto e) {
     using E = decltype(e);
     for (const auto& [v, name] : option_names(E{}).entries) {
@@ -197,6 +199,7 @@ TEST_CASE("option tables: every name parses back to its value, unknown names lis
   roundtrip(Alignment{});
   CHECK(option_values<ga::Blend>() == std::vector<std::string>{"log", "pivot-log", "dlb"});
   CHECK(option_name(SkinBlend::Linear) == "dlb");
-  CHECK_THROWS_WITH(parse_option<ga::Blend>("lgo", "x: "), "x: unknown blend 'lgo' (one of: log, pivot-log, dlb)");
+  CHECK_THROWS_WITH(parse_option<ga::Blend>("lgo", "x: "),
+                    "x: unknown blend 'lgo' (one of: log, pivot-log, dlb)");
   CHECK_THROWS_WITH(option_name(static_cast<ArapEnergy>(7)), Catch::Contains("energy: value 7 has no name"));
 }

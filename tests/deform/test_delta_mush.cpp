@@ -14,10 +14,10 @@
 #include <random>
 #include <set>
 
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/deform/delta_mush.hpp"
 #include "spinmotor/deform/direct_delta_mush.hpp"
 #include "spinmotor/deform/skinning.hpp"
-#include "spinmotor/core/error.hpp"
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/metrics/deformation_metrics.hpp"

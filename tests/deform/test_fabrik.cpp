@@ -2,15 +2,14 @@
 // (deform/chain_fit.hpp, CGA paper §III.C): reachable targets within tolerance, bone lengths kept,
 // the stretched chain for unreachable targets, the prescribed end orientation, joint motors that carry
 // rest joints onto posed joints, rigid chains giving rigid motors, and the joint parameters on a tube.
-#include <catch2/catch.hpp>
-
 #include <Eigen/Core>
+#include <catch2/catch.hpp>
 #include <cmath>
 
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/deform/chain_fit.hpp"
 #include "spinmotor/deform/fabrik.hpp"
 #include "spinmotor/deform/harmonic_field.hpp"
-#include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/generators.hpp"
 
 using namespace spinmotor;
@@ -76,7 +75,8 @@ TEST_CASE("FABRIK with a prescribed end orientation", "[fabrik]") {
   const MatrixXd chain = straight_chain(6, 4.0);
   const ga::Rot R = ga::rotor(Vector3d(1, 0, 0), -M_PI / 2);  // the end bone points along +y
   const Vector3d target(0.0, 2.0, 2.5);
-  const FabrikResult r = fabrik(chain, target, {.tolerance = 1e-7, .max_iterations = 1000, .end_rotation = R});
+  const FabrikResult r =
+      fabrik(chain, target, {.tolerance = 1e-7, .max_iterations = 1000, .end_rotation = R});
   CHECK(r.converged);
   CHECK((r.joints.row(5).transpose() - target).norm() <= 1e-7);
   const Vector3d end_dir = (r.joints.row(5) - r.joints.row(4)).normalized().transpose();
@@ -87,9 +87,12 @@ TEST_CASE("FABRIK with a prescribed end orientation", "[fabrik]") {
 TEST_CASE("FABRIK rejects bad chains", "[fabrik][errors]") {
   MatrixXd c = straight_chain(4, 1.0);
   c.row(2) = c.row(1);
-  CHECK_THROWS_WITH(fabrik(c, Vector3d(0, 0, 1), {}), Catch::Contains("bone 1") && Catch::Contains("zero length"));
-  CHECK_THROWS_WITH(fabrik(MatrixXd::Zero(1, 3), Vector3d(0, 0, 1), {}), Catch::Contains("at least 2 joints"));
-  CHECK_THROWS_WITH(fabrik(straight_chain(3, 1), Vector3d(0, 0, 1), {.tolerance = 0}), Catch::Contains("tolerance"));
+  CHECK_THROWS_WITH(fabrik(c, Vector3d(0, 0, 1), {}),
+                    Catch::Contains("bone 1") && Catch::Contains("zero length"));
+  CHECK_THROWS_WITH(fabrik(MatrixXd::Zero(1, 3), Vector3d(0, 0, 1), {}),
+                    Catch::Contains("at least 2 joints"));
+  CHECK_THROWS_WITH(fabrik(straight_chain(3, 1), Vector3d(0, 0, 1), {.tolerance = 0}),
+                    Catch::Contains("tolerance"));
 }
 
 TEST_CASE("chain motors carry each rest joint onto its posed joint", "[fabrik][chain]") {
@@ -131,7 +134,8 @@ TEST_CASE("a rigidly moved chain gives the same rigid motor at every joint", "[f
 TEST_CASE("joint parameters match the harmonic parameter on a tube", "[fabrik][chain]") {
   // Open tube with 41 rings along z ∈ [0, 4]: λ = z/4. Joints at rings 0, 8, 20, 28, 40.
   const Mesh m = tube(0.5, 4.0, 41, 24, false);
-  Handle from{"from", VectorXi::LinSpaced(24, 0, 23)}, to{"to", VectorXi::LinSpaced(24, 40 * 24, 40 * 24 + 23)};
+  Handle from{"from", VectorXi::LinSpaced(24, 0, 23)},
+      to{"to", VectorXi::LinSpaced(24, 40 * 24, 40 * 24 + 23)};
   const VectorXd lambda = harmonic_field(m.V, m.F, from, to);
   MatrixXd chain(5, 3);
   const int rings[5] = {0, 8, 20, 28, 40};

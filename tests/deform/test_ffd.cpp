@@ -2,14 +2,13 @@
 // undeformed lattice reproduces the mesh (both bases), local support of a moved control, rigid motion
 // of all controls, linear precision of the position mode, agreement of the fast motor path with
 // ga::blend, vertices outside the box, and the errors.
-#include <catch2/catch.hpp>
-
 #include <Eigen/Geometry>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
 
-#include "spinmotor/deform/ffd.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/deform/ffd.hpp"
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/generators.hpp"
 
@@ -63,7 +62,8 @@ TEST_CASE("FFD: the undeformed lattice reproduces the mesh", "[ffd]") {
 
 TEST_CASE("FFD: Bezier weights are the trivariate Bernstein polynomials (eq. 7)", "[ffd]") {
   const Mesh m = test_mesh();
-  FfdDeformer d = FfdDeformer::bind(m, opts(FfdDeformer::Basis::Bezier, FfdDeformer::Mode::Position, {3, 4, 5}));
+  FfdDeformer d =
+      FfdDeformer::bind(m, opts(FfdDeformer::Basis::Bezier, FfdDeformer::Mode::Position, {3, 4, 5}));
   const auto W = d.weights();
   const Eigen::AlignedBox3d& box = d.box();
   auto bern = [](int k, int deg, double t) {
@@ -76,8 +76,8 @@ TEST_CASE("FFD: Bezier weights are the trivariate Bernstein polynomials (eq. 7)"
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 4; ++b)
         for (int c = 0; c < 5; ++c)
-          err = std::max(err, std::abs(W.coeff(i, d.index(a, b, c)) - bern(a, 2, s.x()) * bern(b, 3, s.y()) *
-                                                                          bern(c, 4, s.z())));
+          err = std::max(err, std::abs(W.coeff(i, d.index(a, b, c)) -
+                                       bern(a, 2, s.x()) * bern(b, 3, s.y()) * bern(c, 4, s.z())));
   }
   CHECK(err < 1e-14);
   // 5% margin around the bounding box
@@ -88,7 +88,8 @@ TEST_CASE("FFD: Bezier weights are the trivariate Bernstein polynomials (eq. 7)"
 
 TEST_CASE("FFD: moving one control moves exactly the vertices in its support", "[ffd]") {
   const Mesh m = test_mesh();
-  FfdDeformer d = FfdDeformer::bind(m, opts(FfdDeformer::Basis::BSpline, FfdDeformer::Mode::Position, {8, 8, 6}));
+  FfdDeformer d =
+      FfdDeformer::bind(m, opts(FfdDeformer::Basis::BSpline, FfdDeformer::Mode::Position, {8, 8, 6}));
   const auto W = d.weights();
   // local support: (d+1)³ = 64 stored weights per vertex, not 384
   CHECK(W.nonZeros() == 64 * m.V.rows());
@@ -104,18 +105,21 @@ TEST_CASE("FFD: moving one control moves exactly the vertices in its support", "
     in_support += supported;
     wrong += supported != moved;
     // the displacement is w_c times the control's
-    if (supported) CHECK((V.row(i) - m.V.row(i) - W.coeff(i, c) * Eigen::RowVector3d(0.3, -0.2, 0.5)).norm() < 1e-12);
+    if (supported)
+      CHECK((V.row(i) - m.V.row(i) - W.coeff(i, c) * Eigen::RowVector3d(0.3, -0.2, 0.5)).norm() < 1e-12);
   }
   CHECK(in_support > 0);
   CHECK(in_support < m.V.rows() * 3 / 4);
   CHECK(wrong == 0);
   // motor mode: rotating the same control moves the same set
-  FfdDeformer dm = FfdDeformer::bind(m, opts(FfdDeformer::Basis::BSpline, FfdDeformer::Mode::Motor, {8, 8, 6}));
+  FfdDeformer dm =
+      FfdDeformer::bind(m, opts(FfdDeformer::Basis::BSpline, FfdDeformer::Mode::Motor, {8, 8, 6}));
   auto M = identities(dm.controls().size());
   M[c] = rigid({1, 2, 0}, 40, {0.1, 0, 0.2});
   dm.pose(M, V);
   wrong = 0;  // motor mode: unsupported vertices get exp(0) = 1 exactly, so they do not move at all
-  for (Index i = 0; i < m.V.rows(); ++i) wrong += (W.coeff(i, c) != 0.0) != ((V.row(i) - m.V.row(i)).norm() > 0.0);
+  for (Index i = 0; i < m.V.rows(); ++i)
+    wrong += (W.coeff(i, c) != 0.0) != ((V.row(i) - m.V.row(i)).norm() > 0.0);
   CHECK(wrong == 0);
 }
 
@@ -157,12 +161,14 @@ TEST_CASE("FFD motor mode: the fast path equals ga::blend over the supporting co
     for (auto blend : {ga::Blend::Log, ga::Blend::Linear}) {
       FfdDeformer d = FfdDeformer::bind(m, opts(basis, FfdDeformer::Mode::Motor, {5, 5, 5}, blend));
       std::vector<ga::Mot> M(d.controls().size());
-      for (auto& mo : M) mo = rigid({u(rng), u(rng), u(rng)}, 60 * u(rng), {0.3 * u(rng), 0.3 * u(rng), 0.3 * u(rng)});
+      for (auto& mo : M)
+        mo = rigid({u(rng), u(rng), u(rng)}, 60 * u(rng), {0.3 * u(rng), 0.3 * u(rng), 0.3 * u(rng)});
       MatrixXd V;
       d.pose(M, V);
       double err = 0.0;
       for (Index i = 0; i < m.V.rows(); i += 13)
-        err = std::max(err, (V.row(i).transpose() - ga::transform(d.vertex_motor(i, M), m.V.row(i).transpose())).norm());
+        err = std::max(
+            err, (V.row(i).transpose() - ga::transform(d.vertex_motor(i, M), m.V.row(i).transpose())).norm());
       CHECK(err < 1e-12);
       // rotating controls changes edge lengths little compared with a shear of the same control displacement
     }

@@ -2,12 +2,11 @@
 // closed form on a tube (λ = z / L), partition of unity, the maximum principle, exact Dirichlet
 // values, one factorization with k right-hand sides against k separate solves, and the errors for
 // bad handles and for a connected component without a handle.
+#include <Eigen/Core>
 #include <catch2/catch.hpp>
 
-#include <Eigen/Core>
-
-#include "spinmotor/deform/harmonic_field.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/deform/harmonic_field.hpp"
 #include "spinmotor/mesh/generators.hpp"
 
 using namespace spinmotor;
@@ -79,7 +78,9 @@ TEST_CASE("harmonic coordinates: partition of unity, bounds, exact on handles", 
   {
     Mesh t = test_tube();
     cases.push_back({"tube, 2 rings", t, {ring("a", 0), ring("b", kRings - 1)}});
-    cases.push_back({"tube, 4 handles", t, {ring("a", 0), ring("b", kRings - 1), ring("c", 20, 0, 5), ring("d", 12, 12, 16)}});
+    cases.push_back({"tube, 4 handles",
+                     t,
+                     {ring("a", 0), ring("b", kRings - 1), ring("c", 20, 0, 5), ring("d", 12, 12, 16)}});
   }
   {
     Mesh s = icosphere(3);
@@ -98,7 +99,7 @@ TEST_CASE("harmonic coordinates: partition of unity, bounds, exact on handles", 
       REQUIRE(L.rows() == c.mesh.V.rows());
       REQUIRE(L.cols() == static_cast<Index>(c.handles.size()));
       CHECK((L.rowwise().sum().array() - 1.0).abs().maxCoeff() < 1e-12);  // partition of unity
-      CHECK(L.minCoeff() >= -1e-12);                                        // maximum principle
+      CHECK(L.minCoeff() >= -1e-12);                                      // maximum principle
       CHECK(L.maxCoeff() <= 1.0 + 1e-12);
       for (std::size_t j = 0; j < c.handles.size(); ++j)
         for (Index k = 0; k < c.handles[j].vertices.size(); ++k)
@@ -127,12 +128,14 @@ TEST_CASE("one factorization with k right-hand sides equals k separate solves", 
 TEST_CASE("harmonic fields reject bad handles and unconstrained components", "[harmonic][errors]") {
   const Mesh m = test_tube();
   const std::vector<Handle> empty = {ring("a", 0), Handle{"nothing", VectorXi()}};
-  CHECK_THROWS_WITH(harmonic_coordinates(m.V, m.F, empty), Catch::Contains("'nothing'") && Catch::Contains("no vertex"));
+  CHECK_THROWS_WITH(harmonic_coordinates(m.V, m.F, empty),
+                    Catch::Contains("'nothing'") && Catch::Contains("no vertex"));
   const std::vector<Handle> shared = {ring("a", 0), ring("b", 0, 3, 5)};
   CHECK_THROWS_WITH(harmonic_coordinates(m.V, m.F, shared),
                     Catch::Contains("'a' and 'b'") && Catch::Contains("share vertex 3"));
   const std::vector<Handle> range = {Handle{"far", VectorXi::Constant(1, 100000)}};
-  CHECK_THROWS_WITH(harmonic_coordinates(m.V, m.F, range), Catch::Contains("'far'") && Catch::Contains("out of range"));
+  CHECK_THROWS_WITH(harmonic_coordinates(m.V, m.F, range),
+                    Catch::Contains("'far'") && Catch::Contains("out of range"));
 
   // Two tubes, handles only on the first: component 1 has no constrained vertex.
   Mesh two;

@@ -1,18 +1,18 @@
 // Skinning of a rigged mesh (deform/skinning.hpp): identity and rigid poses, agreement of the fast
 // blends with ga::blend, 4-influence truncation, the twisted-tube volume study (LBS collapses, DLB and
 // Log do not), harmonic bone weights, the weight file reader and its errors, skeleton checks.
-#include <catch2/catch.hpp>
+#include <unistd.h>
 
 #include <Eigen/Geometry>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <random>
-#include <unistd.h>
 
-#include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/generators.hpp"
 
@@ -38,8 +38,7 @@ std::vector<Bone> arm() {
 
 double volume(const MatrixXd& V, const Eigen::MatrixXi& F) {
   double v = 0.0;
-  for (Index f = 0; f < F.rows(); ++f)
-    {
+  for (Index f = 0; f < F.rows(); ++f) {
     const Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
     v += a.dot(b.cross(c));
   }
@@ -60,12 +59,16 @@ MatrixXd random_weights(Index n, int B, std::mt19937& rng) {
 std::vector<Bone> six_bones() {
   std::vector<Bone> b;
   for (int j = 0; j < 6; ++j)
-    b.push_back({"b" + std::to_string(j), j - 1, {0, 0, 1.0 * j}, {0, 0, 1.0 * j + 1}, rigid({1.0, static_cast<double>(j), 0.0}, 10 * j, {0, 0, 0.1 * j})});
+    b.push_back({"b" + std::to_string(j),
+                 j - 1,
+                 {0, 0, 1.0 * j},
+                 {0, 0, 1.0 * j + 1},
+                 rigid({1.0, static_cast<double>(j), 0.0}, 10 * j, {0, 0, 0.1 * j})});
   return b;
 }
 
-const SkinDeformer::Blend kBlends[] = {SkinDeformer::Blend::LBS, SkinDeformer::Blend::Linear, SkinDeformer::Blend::Log,
-                                       SkinDeformer::Blend::PivotLog};
+const SkinDeformer::Blend kBlends[] = {SkinDeformer::Blend::LBS, SkinDeformer::Blend::Linear,
+                                       SkinDeformer::Blend::Log, SkinDeformer::Blend::PivotLog};
 
 }  // namespace
 
@@ -97,7 +100,8 @@ TEST_CASE("skin: at most 4 influences, renormalized, fast blends equal ga::blend
   const MatrixXd W = random_weights(m.V.rows(), 6, rng);
   std::vector<ga::Mot> frames;
   std::uniform_real_distribution<double> u(-1, 1);
-  for (const Bone& b : bones) frames.push_back(rigid({u(rng), u(rng), u(rng)}, 120 * u(rng), {u(rng), u(rng), u(rng)}) * b.rest);
+  for (const Bone& b : bones)
+    frames.push_back(rigid({u(rng), u(rng), u(rng)}, 120 * u(rng), {u(rng), u(rng), u(rng)}) * b.rest);
   for (auto blend : kBlends) {
     SkinDeformer d = SkinDeformer::bind(m, bones, W, {blend});
     const Eigen::SparseMatrix<double> K = d.weights();
@@ -117,7 +121,9 @@ TEST_CASE("skin: at most 4 influences, renormalized, fast blends equal ga::blend
     if (blend == SkinDeformer::Blend::LBS) continue;
     double err = 0.0;
     for (Index i = 0; i < m.V.rows(); i += 5)
-      err = std::max(err, (V.row(i).transpose() - ga::transform(d.vertex_motor(i, frames), m.V.row(i).transpose())).norm());
+      err = std::max(
+          err,
+          (V.row(i).transpose() - ga::transform(d.vertex_motor(i, frames), m.V.row(i).transpose())).norm());
     CHECK(err < 1e-12);
   }
 }
@@ -184,11 +190,16 @@ TEST_CASE("skin: weight file reader", "[skin]") {
   CHECK(W(1, 1) == 1.0);
   CHECK(W(2, 0) == 2.0);
   CHECK_THROWS_WITH(read_skin_weights(good, bones, 4), Catch::Contains("good.txt: 3 vertex lines"));
-  CHECK_THROWS_WITH(read_skin_weights(write("a.txt", "bones upper elbow\n"), bones, 1), Catch::Contains("a.txt:1:") && Catch::Contains("'elbow'"));
-  CHECK_THROWS_WITH(read_skin_weights(write("b.txt", "bones upper lower\n1 0\n0.5\n"), bones, 2), Catch::Contains("b.txt:3:"));
-  CHECK_THROWS_WITH(read_skin_weights(write("c.txt", "bones upper lower\n1 x\n"), bones, 1), Catch::Contains("c.txt:2: 'x' is not a number"));
-  CHECK_THROWS_WITH(read_skin_weights(write("d.txt", "bones upper lower\n1 -1\n"), bones, 1), Catch::Contains("d.txt:2:"));
-  CHECK_THROWS_WITH(read_skin_weights(write("e.txt", "bones upper lower\n0 0\n"), bones, 1), Catch::Contains("e.txt:2: vertex 0 has no positive"));
+  CHECK_THROWS_WITH(read_skin_weights(write("a.txt", "bones upper elbow\n"), bones, 1),
+                    Catch::Contains("a.txt:1:") && Catch::Contains("'elbow'"));
+  CHECK_THROWS_WITH(read_skin_weights(write("b.txt", "bones upper lower\n1 0\n0.5\n"), bones, 2),
+                    Catch::Contains("b.txt:3:"));
+  CHECK_THROWS_WITH(read_skin_weights(write("c.txt", "bones upper lower\n1 x\n"), bones, 1),
+                    Catch::Contains("c.txt:2: 'x' is not a number"));
+  CHECK_THROWS_WITH(read_skin_weights(write("d.txt", "bones upper lower\n1 -1\n"), bones, 1),
+                    Catch::Contains("d.txt:2:"));
+  CHECK_THROWS_WITH(read_skin_weights(write("e.txt", "bones upper lower\n0 0\n"), bones, 1),
+                    Catch::Contains("e.txt:2: vertex 0 has no positive"));
   CHECK_THROWS_WITH(read_skin_weights(write("f.txt", "1 0\n"), bones, 1), Catch::Contains("f.txt:1:"));
   CHECK_THROWS_WITH(read_skin_weights(write("g.txt", "bones upper\n"), bones, 1), Catch::Contains("'lower'"));
   CHECK_THROWS_WITH(read_skin_weights(dir / "missing.txt", bones, 1), Catch::Contains("missing.txt"));
@@ -200,7 +211,8 @@ TEST_CASE("skin: bind errors name the vertex or bone", "[skin]") {
   const auto bones = arm();
   MatrixXd W = MatrixXd::Constant(m.V.rows(), 2, 0.5);
   W(7, 1) = -0.5;
-  CHECK_THROWS_WITH(SkinDeformer::bind(m, bones, W, {}), Catch::Contains("vertex 7") && Catch::Contains("'upper'"));
+  CHECK_THROWS_WITH(SkinDeformer::bind(m, bones, W, {}),
+                    Catch::Contains("vertex 7") && Catch::Contains("'upper'"));
   W(7, 1) = 0.0;
   W(7, 0) = 0.0;
   CHECK_THROWS_WITH(SkinDeformer::bind(m, bones, W, {}), Catch::Contains("vertex 7"));

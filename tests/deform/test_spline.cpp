@@ -2,14 +2,13 @@
 // the bases against independent formulas (recursive Cox–de Boor, Bernstein, the paper's Lagrange
 // weights), partition of unity, key reproduction at the nodes each basis interpolates (on the mesh,
 // through the harmonic parameter), the translation closed form, and the rest-pose binding.
-#include <catch2/catch.hpp>
-
 #include <Eigen/Core>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
 
-#include "spinmotor/deform/spline_deformer.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/deform/spline_deformer.hpp"
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/generators.hpp"
 
@@ -31,7 +30,8 @@ double cox_de_boor(const std::vector<double>& U, int j, int d, double t) {
   }
   double a = 0, b = 0;
   if (U[j + d] > U[j]) a = (t - U[j]) / (U[j + d] - U[j]) * cox_de_boor(U, j, d - 1, t);
-  if (U[j + d + 1] > U[j + 1]) b = (U[j + d + 1] - t) / (U[j + d + 1] - U[j + 1]) * cox_de_boor(U, j + 1, d - 1, t);
+  if (U[j + d + 1] > U[j + 1])
+    b = (U[j + d + 1] - t) / (U[j + d + 1] - U[j + 1]) * cox_de_boor(U, j + 1, d - 1, t);
   return a + b;
 }
 
@@ -53,9 +53,10 @@ struct BasisCase {
   SplineBasis basis;
   int keys, degree;
 };
-const BasisCase kCases[] = {{SplineBasis::Linear, 2, 0},  {SplineBasis::Linear, 5, 0},  {SplineBasis::Quadratic, 3, 0},
-                            {SplineBasis::Bezier, 4, 0},  {SplineBasis::Bezier, 6, 0},  {SplineBasis::BSpline, 5, 1},
-                            {SplineBasis::BSpline, 6, 3}, {SplineBasis::BSpline, 4, 3}, {SplineBasis::BSpline, 9, 4}};
+const BasisCase kCases[] = {
+    {SplineBasis::Linear, 2, 0},  {SplineBasis::Linear, 5, 0},  {SplineBasis::Quadratic, 3, 0},
+    {SplineBasis::Bezier, 4, 0},  {SplineBasis::Bezier, 6, 0},  {SplineBasis::BSpline, 5, 1},
+    {SplineBasis::BSpline, 6, 3}, {SplineBasis::BSpline, 4, 3}, {SplineBasis::BSpline, 9, 4}};
 
 constexpr int kRings = 41, kSides = 24;  // ring k is at λ = k/40 exactly (λ = z/L on an open tube)
 constexpr double kLength = 4.0;
@@ -144,7 +145,8 @@ TEST_CASE("spline deformer reproduces its key motors at the nodes it interpolate
   for (const BasisCase& c : kCases) {
     for (HarmonicWeights hw : {HarmonicWeights::MeanValue, HarmonicWeights::Cotangent}) {
       CAPTURE(to_string(c.basis), c.keys, c.degree, to_string(hw));
-      auto d = SplineDeformer::bind(m, h, {.basis = c.basis, .degree = c.degree, .keys = c.keys, .weights = hw});
+      auto d =
+          SplineDeformer::bind(m, h, {.basis = c.basis, .degree = c.degree, .keys = c.keys, .weights = hw});
       const auto keys = random_keys(c.keys, 11);
       MatrixXd V;
       d.pose(keys, V);
@@ -177,7 +179,8 @@ TEST_CASE("spline deformer: identity, translations, rest binding", "[spline][def
   // Translations: V' = V + Σ_j W_j(λ_i) t_j.
   MatrixXd T = MatrixXd::Random(6, 3);
   std::vector<ga::Mot> keys;
-  for (int j = 0; j < 6; ++j) keys.push_back(ga::motor(ga::Rot(1, 0, 0, 0), ga::translator(T.row(j).transpose())));
+  for (int j = 0; j < 6; ++j)
+    keys.push_back(ga::motor(ga::Rot(1, 0, 0, 0), ga::translator(T.row(j).transpose())));
   d.pose(keys, V);
   const MatrixXd expected = m.V + MatrixXd(d.field().weights()) * T;
   CHECK((V - expected).cwiseAbs().maxCoeff() < 1e-12);

@@ -1,14 +1,13 @@
 // B-spline fitting of key motors (deform/bspline_fit.hpp, CGA paper §III.C eqs. 3–5): exact recovery
 // of a representable motor curve (Cholesky path and pinned ends), the SVD path when AᵀA is singular,
 // and the least-squares optimum against an independent dense QR solve.
-#include <catch2/catch.hpp>
-
 #include <Eigen/Dense>
+#include <catch2/catch.hpp>
 #include <random>
 
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/deform/bspline_fit.hpp"
 #include "spinmotor/deform/spline_basis.hpp"
-#include "spinmotor/core/error.hpp"
 
 using namespace spinmotor;
 using Eigen::MatrixXd;
@@ -26,7 +25,8 @@ std::vector<ga::Dll> random_generators(int m, unsigned seed, double scale = 0.5)
 }
 
 /// Keys on the spline: Q_i = exp(Σ_j N_j(λ_i) B_j).
-std::vector<ga::Mot> keys_on_curve(const std::vector<ga::Dll>& B, const std::vector<double>& lambda, int degree) {
+std::vector<ga::Mot> keys_on_curve(const std::vector<ga::Dll>& B, const std::vector<double>& lambda,
+                                   int degree) {
   const int m = static_cast<int>(B.size());
   std::vector<ga::Mot> Q;
   for (double t : lambda) {
@@ -66,7 +66,8 @@ TEST_CASE("B-spline fit recovers a motor curve the spline can represent", "[spli
       CHECK(fit.residual < 1e-12);
       CHECK(max_diff(fit.generators, B) < 1e-10);
       // Pinned ends: the same curve, ends exact.
-      const BSplineFit pinned = fit_bspline_motors(Q, lambda, {.controls = m, .degree = degree, .interpolate_ends = true});
+      const BSplineFit pinned =
+          fit_bspline_motors(Q, lambda, {.controls = m, .degree = degree, .interpolate_ends = true});
       CHECK(max_diff(pinned.generators, B) < 1e-10);
       for (int c = 0; c < 6; ++c) {
         CHECK(pinned.generators[0].c[c] == Approx(ga::log(Q.front()).c[c]).margin(1e-14));
@@ -113,11 +114,13 @@ TEST_CASE("B-spline fit is the least-squares optimum (independent QR solve)", "[
 
 TEST_CASE("B-spline fit rejects bad input", "[spline][fit][errors]") {
   const auto Q = keys_on_curve(random_generators(4, 1), uniform(6), 3);
-  CHECK_THROWS_WITH(fit_bspline_motors(Q, std::vector<double>(5, 0.5), {}), Catch::Contains("5 parameters for 6 keys"));
+  CHECK_THROWS_WITH(fit_bspline_motors(Q, std::vector<double>(5, 0.5), {}),
+                    Catch::Contains("5 parameters for 6 keys"));
   std::vector<double> bad = uniform(6);
   bad[2] = 1.5;
   CHECK_THROWS_WITH(fit_bspline_motors(Q, bad, {}), Catch::Contains("parameter 2 is 1.5"));
   CHECK_THROWS_WITH(fit_bspline_motors(Q, uniform(6), {.controls = 3}), Catch::Contains("at least 4 keys"));
   std::vector<double> inner = {0.1, 0.2, 0.3, 0.4, 0.5, 0.6};
-  CHECK_THROWS_WITH(fit_bspline_motors(Q, inner, {.interpolate_ends = true}), Catch::Contains("λ = 0 and λ = 1"));
+  CHECK_THROWS_WITH(fit_bspline_motors(Q, inner, {.interpolate_ends = true}),
+                    Catch::Contains("λ = 0 and λ = 1"));
 }

@@ -1,19 +1,18 @@
 // Sparse solvers (mesh/cholesky_solver.hpp, lu_solver.hpp, dirichlet_solver.hpp): exact discrete
 // harmonic functions, agreement with Eigen's own factorizations, many right-hand sides, refactoring,
 // and the errors for singular, indefinite and under-constrained systems.
-#include <catch2/catch.hpp>
-
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
 
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/linalg/cholesky_solver.hpp"
-#include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/linalg/dirichlet_solver.hpp"
-#include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/linalg/lu_solver.hpp"
+#include "spinmotor/mesh/cotangent_laplacian.hpp"
+#include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/mass_matrix.hpp"
 #include "spinmotor/mesh/mean_value_laplacian.hpp"
 #include "spinmotor/mesh/topology.hpp"
@@ -70,11 +69,12 @@ TEST_CASE("Dirichlet: Re(z³) and x²−y² are exactly discrete-harmonic on a u
   }
 }
 
-TEST_CASE("Dirichlet: linear functions are reproduced on a perturbed grid (cotangent and mean-value)", "[solvers]") {
+TEST_CASE("Dirichlet: linear functions are reproduced on a perturbed grid (cotangent and mean-value)",
+          "[solvers]") {
   const Mesh g = perturbed_grid(17, 14, 0.3);
   const VectorXi bd = boundary_vertices(g.F, g.V.rows());
-  const MatrixXd U = g.V.leftCols(2) * Eigen::Matrix2d{{0.5, -1.0}, {2.0, 0.25}} +
-                     MatrixXd::Constant(g.V.rows(), 2, 0.3);
+  const MatrixXd U =
+      g.V.leftCols(2) * Eigen::Matrix2d{{0.5, -1.0}, {2.0, 0.25}} + MatrixXd::Constant(g.V.rows(), 2, 0.3);
   DirichletSolver cot;
   cot.bind(cotangent_laplacian(g.V, g.F), bd, DirichletSolver::Kind::SPD);
   CHECK((cot.solve(values_at(U, bd)) - U).cwiseAbs().maxCoeff() < 1e-13);
@@ -163,7 +163,8 @@ TEST_CASE("Dirichlet: a component without a constrained vertex is named", "[solv
   CHECK_THROWS_WITH(d.bind(L, pins), Catch::Contains("constrained index 1 is 31, out of range"));
   pins << 20, 20;
   CHECK_THROWS_WITH(d.bind(L, pins), Catch::Contains("vertex 20 is constrained twice"));
-  CHECK_THROWS_WITH(DirichletSolver().solve(MatrixXd::Ones(2, 1)), Catch::Contains("before a successful bind"));
+  CHECK_THROWS_WITH(DirichletSolver().solve(MatrixXd::Ones(2, 1)),
+                    Catch::Contains("before a successful bind"));
 }
 
 TEST_CASE("CholeskySolver: agrees with Eigen's SimplicialLDLT for every ordering, supernodal and simplicial",
@@ -207,7 +208,8 @@ TEST_CASE("CholeskySolver: factorize reuses the analysis, pattern changes are re
   SpMat other = shifted_laplacian(icosphere(1), 1.0);
   CHECK_THROWS_WITH(c.factorize(other), Catch::Contains("pattern differs"));
   CHECK_THROWS_WITH(c.solve(MatrixXd::Ones(3, 1)), Catch::Contains("right-hand side has 3 rows"));
-  CHECK_THROWS_WITH(CholeskySolver().solve(MatrixXd::Ones(3, 1)), Catch::Contains("before a successful factorize"));
+  CHECK_THROWS_WITH(CholeskySolver().solve(MatrixXd::Ones(3, 1)),
+                    Catch::Contains("before a successful factorize"));
   SpMat bad = shifted_laplacian(s, 1.0);
   bad.valuePtr()[5] = std::nan("");
   CHECK_THROWS_WITH(c.factorize(bad), Catch::Contains("not finite"));
@@ -223,7 +225,8 @@ TEST_CASE("CholeskySolver: indefinite and singular matrices raise numerical erro
     CholeskySolver c({O::AMD, super});
     const SpMat indefinite = L - 10.0 * M;
     CHECK_THROWS_WITH(c.compute(indefinite), Catch::Contains("not positive definite") &&
-                                                 Catch::Contains("CHOLMOD") && Catch::Contains("connected component 0"));
+                                                 Catch::Contains("CHOLMOD") &&
+                                                 Catch::Contains("connected component 0"));
     try {
       c.compute(indefinite);
     } catch (const Error& e) {
@@ -244,7 +247,8 @@ TEST_CASE("CholeskySolver: indefinite and singular matrices raise numerical erro
   CHECK_THROWS_WITH(c2.compute(A2), Catch::Contains("connected component 1 (162 rows, e.g. row 162)"));
 }
 
-TEST_CASE("LUSolver: agrees with Eigen's SparseLU on the mean-value Laplacian, reports singular columns", "[solvers]") {
+TEST_CASE("LUSolver: agrees with Eigen's SparseLU on the mean-value Laplacian, reports singular columns",
+          "[solvers]") {
   const Mesh g = perturbed_grid(13, 10, 0.3);
   const SpMat L = mean_value_laplacian(g.V, g.F);
   const SpMat A = SpMat(L + 0.5 * mass_matrix(g.V, g.F));
@@ -285,7 +289,8 @@ TEST_CASE("LUSolver: agrees with Eigen's SparseLU on the mean-value Laplacian, r
   CHECK_THROWS_WITH(lu.compute(S), Catch::Contains("structurally singular") && Catch::Contains("pivot row"));
   // Exactly singular numerically: two equal columns.
   SpMat E(3, 3);
-  std::vector<Eigen::Triplet<double>> te{{0, 0, 1}, {1, 0, 2}, {0, 1, 1}, {1, 1, 2}, {2, 2, 1}, {2, 0, 1}, {2, 1, 1}};
+  std::vector<Eigen::Triplet<double>> te{{0, 0, 1}, {1, 0, 2}, {0, 1, 1}, {1, 1, 2},
+                                         {2, 2, 1}, {2, 0, 1}, {2, 1, 1}};
   E.setFromTriplets(te.begin(), te.end());
   CHECK_THROWS_WITH(lu.compute(E), Catch::Contains("singular"));
   try {

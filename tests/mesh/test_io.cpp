@@ -12,8 +12,8 @@
 #include <sstream>
 #include <string>
 
-#include "spinmotor/core/error.hpp"
 #include "spinmotor/core/atomic_file.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/openmesh_interop.hpp"
 

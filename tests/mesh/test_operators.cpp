@@ -1,8 +1,7 @@
 // Discrete operators (mesh/cotangent_laplacian.hpp, mean_value_laplacian.hpp, mass_matrix.hpp,
 // face_geometry.hpp, gradient.hpp): closed forms, invariants and an independent triplet assembly.
-#include <catch2/catch.hpp>
-
 #include <Eigen/SparseCore>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
 
@@ -75,7 +74,8 @@ bool same_pattern(const SpMat& A, const SpMat& B) {
 
 }  // namespace
 
-TEST_CASE("cotangent Laplacian: symmetric, zero row sums, PSD sign, matches triplet reference", "[operators]") {
+TEST_CASE("cotangent Laplacian: symmetric, zero row sums, PSD sign, matches triplet reference",
+          "[operators]") {
   for (const Mesh& m : {icosphere(3), perturbed_grid(), uv_sphere(12, 26, 1.5)}) {
     const SpMat L = cotangent_laplacian(m.V, m.F);
     REQUIRE(L.rows() == m.V.rows());
@@ -92,7 +92,8 @@ TEST_CASE("cotangent Laplacian: symmetric, zero row sums, PSD sign, matches trip
   }
 }
 
-TEST_CASE("cotangent Laplacian annihilates linear functions at interior vertices of a planar mesh", "[operators]") {
+TEST_CASE("cotangent Laplacian annihilates linear functions at interior vertices of a planar mesh",
+          "[operators]") {
   const Mesh g = perturbed_grid();
   const SpMat L = cotangent_laplacian(g.V, g.F);
   // The perturbation makes some cotangent weights negative: the test covers obtuse triangles.
@@ -176,8 +177,9 @@ TEST_CASE("mean curvature normal: M⁻¹ L V → 2HN on the icosphere", "[operat
   CHECK(prev < 5e-3);
 }
 
-TEST_CASE("gradient and divergence: −D·G equals the cotangent Laplacian, linear functions have exact gradients",
-          "[operators]") {
+TEST_CASE(
+    "gradient and divergence: −D·G equals the cotangent Laplacian, linear functions have exact gradients",
+    "[operators]") {
   for (const Mesh& m : {icosphere(2, 0.8), perturbed_grid()}) {
     const SpMat G = gradient(m.V, m.F), D = divergence(m.V, m.F);
     REQUIRE(G.rows() == 3 * m.F.rows());
@@ -195,11 +197,13 @@ TEST_CASE("gradient and divergence: −D·G equals the cotangent Laplacian, line
   const Mesh g = perturbed_grid();
   const Eigen::Vector3d a(0.3, -1.7, 0.0);
   const VectorXd gu = gradient(g.V, g.F) * (g.V * a);
-  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>> per_face(gu.data(), g.F.rows(), 3);
+  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>> per_face(gu.data(),
+                                                                                             g.F.rows(), 3);
   CHECK((per_face.rowwise() - a.transpose()).cwiseAbs().maxCoeff() < 1e-13);
 }
 
-TEST_CASE("face geometry: unit outward normals, angles sum to π, cotangents agree with the angles", "[operators]") {
+TEST_CASE("face geometry: unit outward normals, angles sum to π, cotangents agree with the angles",
+          "[operators]") {
   const Mesh s = icosphere(2);
   const MatrixXd N = face_normals(s.V, s.F);
   CHECK((N.rowwise().norm().array() - 1.0).abs().maxCoeff() < 1e-15);
@@ -219,7 +223,8 @@ TEST_CASE("face geometry: unit outward normals, angles sum to π, cotangents agr
     }
 }
 
-TEST_CASE("mean-value Laplacian: positive weights, zero row sums, linear precision, not symmetric", "[operators]") {
+TEST_CASE("mean-value Laplacian: positive weights, zero row sums, linear precision, not symmetric",
+          "[operators]") {
   const Mesh g = perturbed_grid();
   const SpMat L = mean_value_laplacian(g.V, g.F);
   const SpMat Lc = cotangent_laplacian(g.V, g.F);
@@ -242,12 +247,13 @@ TEST_CASE("mean-value Laplacian: positive weights, zero row sums, linear precisi
   MatrixXi F(1, 3);
   F << 0, 1, 2;
   const SpMat T = mean_value_laplacian(V, F);
-  CHECK(T.coeff(0, 1) == Approx(-0.5).epsilon(1e-15));                        // tan(π/4)/2
-  CHECK(T.coeff(1, 0) == Approx(-std::tan(M_PI / 8) / 2).epsilon(1e-14));     // 45° corner
+  CHECK(T.coeff(0, 1) == Approx(-0.5).epsilon(1e-15));                     // tan(π/4)/2
+  CHECK(T.coeff(1, 0) == Approx(-std::tan(M_PI / 8) / 2).epsilon(1e-14));  // 45° corner
   CHECK(T.coeff(1, 2) == Approx(-std::tan(M_PI / 8) / std::sqrt(8.0)).epsilon(1e-14));
 }
 
-TEST_CASE("operators reject degenerate faces, bad indices and non-finite vertices, naming them", "[operators]") {
+TEST_CASE("operators reject degenerate faces, bad indices and non-finite vertices, naming them",
+          "[operators]") {
   Mesh g = grid(Eigen::Vector2d(1, 1), Eigen::Vector2i(3, 3));
   // Collapse face 5 by moving its corner onto the opposite edge's line: make it collinear.
   const int f = 5;
@@ -275,7 +281,8 @@ TEST_CASE("operators reject degenerate faces, bad indices and non-finite vertice
 
   Mesh h = grid(Eigen::Vector2d(1, 1), Eigen::Vector2i(3, 3));
   h.F(4, 1) = 9;  // 9 vertices: index 9 is out of range
-  CHECK_THROWS_WITH(cotangent_laplacian(h.V, h.F), Catch::Contains("face 4 ") && Catch::Contains("out of range"));
+  CHECK_THROWS_WITH(cotangent_laplacian(h.V, h.F),
+                    Catch::Contains("face 4 ") && Catch::Contains("out of range"));
   h = grid(Eigen::Vector2d(1, 1), Eigen::Vector2i(3, 3));
   h.V(6, 2) = std::nan("");
   CHECK_THROWS_WITH(mass_matrix(h.V, h.F), Catch::Contains("vertex 6 ") && Catch::Contains("non-finite"));

@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "shared_data.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/validate.hpp"
-#include "shared_data.hpp"
 
 using namespace spinmotor;
 namespace fs = std::filesystem;

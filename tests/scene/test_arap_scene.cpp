@@ -1,9 +1,8 @@
 // The `arap` scene deformer: a scene runs in process, its metrics carry the ARAP energies, and a mesh
 // component without a handle is named in the error.
 #include <catch2/catch.hpp>
-#include <nlohmann/json.hpp>
-
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/generators.hpp"
@@ -76,7 +75,8 @@ TEST_CASE("arap scene: a component without a handle is named", "[arap][scene]") 
   std::filesystem::remove_all(dir);
 }
 
-TEST_CASE("arap scene: 'previous' starts each frame from the last result and saves iterations", "[arap][scene]") {
+TEST_CASE("arap scene: 'previous' starts each frame from the last result and saves iterations",
+          "[arap][scene]") {
   // Three frames turning the tip by 20°, 40°, 60°: from frame 2 on, the previous frame's result is a
   // much better start than the rest pose, and the converged shapes agree within the tolerance.
   auto frames_scene = [](const std::string& initial) {
@@ -84,11 +84,13 @@ TEST_CASE("arap scene: 'previous' starts each frame from the last result and sav
     doc.erase("pose");
     doc["frames"] = json::array();
     for (int k = 1; k <= 3; ++k)
-      doc["frames"].push_back({{"tip", {{"rotate", {{"axis", {0, 1, 0}}, {"degrees", 20 * k}, {"about", {0, 0, 4}}}}}}});
+      doc["frames"].push_back(
+          {{"tip", {{"rotate", {{"axis", {0, 1, 0}}, {"degrees", 20 * k}, {"about", {0, 0, 4}}}}}}});
     doc["deformer"]["clamp_negative_weights"] = false;
     return doc;
   };
-  const scene::RunResult prev = scene::run_scene(scene::parse_scene(frames_scene("previous"), ".", "anim.json"));
+  const scene::RunResult prev =
+      scene::run_scene(scene::parse_scene(frames_scene("previous"), ".", "anim.json"));
   const scene::RunResult rest = scene::run_scene(scene::parse_scene(frames_scene("rest"), ".", "anim.json"));
   REQUIRE(prev.frames.size() == 3);
   REQUIRE(rest.frames.size() == 3);
@@ -100,7 +102,8 @@ TEST_CASE("arap scene: 'previous' starts each frame from the last result and sav
     INFO("frame " << k << ": previous " << it_prev << " iterations, rest " << it_rest);
     CHECK(it_prev < it_rest);
     CHECK(prev.frames[k].metrics["arap"]["initial"] == "previous");
-    const double diag = (prev.frames[k].V.colwise().maxCoeff() - prev.frames[k].V.colwise().minCoeff()).norm();
+    const double diag =
+        (prev.frames[k].V.colwise().maxCoeff() - prev.frames[k].V.colwise().minCoeff()).norm();
     CHECK((prev.frames[k].V - rest.frames[k].V).rowwise().norm().maxCoeff() < 1e-2 * diag);
   }
 }

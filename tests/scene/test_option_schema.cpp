@@ -1,8 +1,7 @@
 // The scene schema's enums are the library's option tables (core/option_names.hpp): a name added to
 // one and not the other fails here. (The viewer's widgets read their choices from the schema.)
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 
 #include "spinmotor/deform/arap.hpp"
 #include "spinmotor/deform/cage_deformer.hpp"
@@ -21,7 +20,10 @@ std::vector<std::string> sorted(std::vector<std::string> v) {
 }
 
 std::vector<std::string> schema_enum(const std::string& pointer) {
-  return sorted(scene::scene_schema().at(nlohmann::json::json_pointer(pointer)).at("enum").get<std::vector<std::string>>());
+  return sorted(scene::scene_schema()
+                    .at(nlohmann::json::json_pointer(pointer))
+                    .at("enum")
+                    .get<std::vector<std::string>>());
 }
 
 template <class E>

@@ -2,10 +2,9 @@
 // from their JSON forms, selections, the in-process runner and its outputs (mesh with UVs, metrics,
 // colours, numbered frames), and the CLI contract for bad scenes: exit code 2, a message naming the
 // JSON path or component, and no output file.
-#include <catch2/catch.hpp>
-
 #include <sys/wait.h>
 
+#include <catch2/catch.hpp>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -33,7 +32,8 @@ struct TempDir {
   fs::path path;
   TempDir() {
     std::random_device rd;
-    path = fs::temp_directory_path() / ("spinmotor-scene-test-" + std::to_string(rd()) + std::to_string(rd()));
+    path =
+        fs::temp_directory_path() / ("spinmotor-scene-test-" + std::to_string(rd()) + std::to_string(rd()));
     fs::create_directories(path);
   }
   ~TempDir() {
@@ -56,7 +56,8 @@ std::string slurp(const fs::path& p) {
 
 CliResult run_cli(const std::string& args, const fs::path& scratch) {
   const fs::path out = scratch / "stdout.txt", err = scratch / "stderr.txt";
-  const std::string cmd = std::string(SPINMOTOR_CLI) + " " + args + " > '" + out.string() + "' 2> '" + err.string() + "'";
+  const std::string cmd =
+      std::string(SPINMOTOR_CLI) + " " + args + " > '" + out.string() + "' 2> '" + err.string() + "'";
   const int status = std::system(cmd.c_str());
   CliResult r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -106,7 +107,8 @@ TEST_CASE("schema errors name the JSON path of the bad value", "[scene][schema]"
     const char* message;
   };
   const Case cases[] = {
-      {"/handles/1/select/box/min", json::array({-1, -1}), "/handles/1/select/box/min", "expected at least 3 items, got 2"},
+      {"/handles/1/select/box/min", json::array({-1, -1}), "/handles/1/select/box/min",
+       "expected at least 3 items, got 2"},
       {"/deformer/wieghts", "cotan", "/deformer/wieghts", "unknown key 'wieghts'"},
       {"/deformer/blend", "lin", "/deformer/blend", "expected one of \"log\", \"pivot-log\", \"dlb\""},
       {"/deformer/type", "morph", "/deformer/type", "expected one of \"surface-harmonic\", \"spline\""},
@@ -115,7 +117,8 @@ TEST_CASE("schema errors name the JSON path of the bad value", "[scene][schema]"
       {"/handles", json::object(), "/handles", "expected an array, got an object"},
       {"/handles/0/select", json::parse(R"({"sphere": {"center": [0, 0, 0]}})"), "/handles/0/select/sphere",
        "missing required key 'radius'"},
-      {"/pose", json::parse(R"({"tip": {"matrix": [1, 0, 0]}})"), "/pose/tip/matrix", "expected at least 16 items"},
+      {"/pose", json::parse(R"({"tip": {"matrix": [1, 0, 0]}})"), "/pose/tip/matrix",
+       "expected at least 16 items"},
       {"/pose", json::parse(R"({"tip": {"rotate": {"axis": [1, 0, 0]}}})"), "/pose/tip/rotate",
        "missing required key 'degrees'"},
       {"/snap", json::parse(R"({"tradeoff": 2})"), "/snap/tradeoff", "must be ≤ 1"},
@@ -137,30 +140,39 @@ TEST_CASE("schema errors name the JSON path of the bad value", "[scene][schema]"
 TEST_CASE("the schema validator rejects unsupported keywords", "[scene][schema]") {
   CHECK_THROWS_WITH(JsonSchema(json::parse(R"({"type": "object", "patternProperties": {}})")),
                     Catch::Contains("unsupported keyword 'patternProperties'"));
-  CHECK_THROWS_WITH(JsonSchema(json::parse(R"({"$ref": "#/definitions/nothing"})")), Catch::Contains("does not resolve"));
+  CHECK_THROWS_WITH(JsonSchema(json::parse(R"({"$ref": "#/definitions/nothing"})")),
+                    Catch::Contains("does not resolve"));
   CHECK_NOTHROW(JsonSchema(scene_schema()));
   CHECK(pointer_token("a/b~c") == "a~1b~0c");
 }
 
 TEST_CASE("motors from their JSON forms", "[scene][motor]") {
   // rotate 90° about z around (1, 0, 0), then translate (0, 0, 1): (2, 0, 0) -> (1, 1, 1).
-  const ga::Mot r = parse_motor(json::parse(R"({"rotate": {"axis": [0, 0, 1], "degrees": 90, "about": [1, 0, 0]},
+  const ga::Mot r =
+      parse_motor(json::parse(R"({"rotate": {"axis": [0, 0, 1], "degrees": 90, "about": [1, 0, 0]},
                                                 "translate": [0, 0, 1]})"),
-                                "/pose/x");
+                  "/pose/x");
   CHECK((ga::transform(r, Eigen::Vector3d(2, 0, 0)) - Eigen::Vector3d(1, 1, 1)).norm() < 1e-15);
   // The same motion as a matrix (row-major) and as a quaternion + translation.
-  const ga::Mot m = parse_motor(json::parse(R"({"matrix": [0, -1, 0, 1,  1, 0, 0, -1,  0, 0, 1, 1,  0, 0, 0, 1]})"), "/p");
+  const ga::Mot m =
+      parse_motor(json::parse(R"({"matrix": [0, -1, 0, 1,  1, 0, 0, -1,  0, 0, 1, 1,  0, 0, 0, 1]})"), "/p");
   const ga::Mot q = parse_motor(
-      json::parse(R"({"quaternion": [1.4142135623730951, 0, 0, 1.4142135623730951], "translate": [1, -1, 1]})"), "/p");
+      json::parse(
+          R"({"quaternion": [1.4142135623730951, 0, 0, 1.4142135623730951], "translate": [1, -1, 1]})"),
+      "/p");
   for (const Eigen::Vector3d& x : {Eigen::Vector3d(2, 0, 0), Eigen::Vector3d(0.3, -2, 5)}) {
     const Eigen::Vector3d a = ga::transform(r, x);
     CHECK((ga::transform(m, x) - a).norm() < 1e-14);
     CHECK((ga::transform(q, x) - a).norm() < 1e-14);  // the quaternion is normalized
   }
-  CHECK_THROWS_WITH(parse_motor(json::parse(R"({"matrix": [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0,  0, 0.5, 0, 1]})"), "/pose/t"),
-                    Catch::Contains("/pose/t/matrix: not a rigid motion"));
-  CHECK_THROWS_WITH(parse_motor(json::parse(R"({"matrix": [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, -1, 0,  0, 0, 0, 1]})"), "/pose/t"),
-                    Catch::Contains("/pose/t/matrix: not a rigid motion"));
+  CHECK_THROWS_WITH(
+      parse_motor(json::parse(R"({"matrix": [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0,  0, 0.5, 0, 1]})"),
+                  "/pose/t"),
+      Catch::Contains("/pose/t/matrix: not a rigid motion"));
+  CHECK_THROWS_WITH(
+      parse_motor(json::parse(R"({"matrix": [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, -1, 0,  0, 0, 0, 1]})"),
+                  "/pose/t"),
+      Catch::Contains("/pose/t/matrix: not a rigid motion"));
   CHECK_THROWS_WITH(parse_motor(json::parse(R"({"rotate": {"axis": [0, 0, 0], "degrees": 5}})"), "/pose/t"),
                     Catch::Contains("/pose/t/rotate/axis"));
 }
@@ -172,7 +184,9 @@ TEST_CASE("selections and semantic errors name the handle and its path", "[scene
 
   doc = base_doc();
   doc["handles"][1]["select"] = json::parse(R"({"box": {"min": [-1, -1, -1], "max": [1, 1, 0.5]}})");
-  CHECK_THAT(error_of(doc), Catch::Contains("doc.json: /handles/1: handle 'tip' shares vertex 0 with handle 'base' (/handles/0)"));
+  CHECK_THAT(
+      error_of(doc),
+      Catch::Contains("doc.json: /handles/1: handle 'tip' shares vertex 0 with handle 'base' (/handles/0)"));
 
   doc = base_doc();
   doc["handles"][1]["name"] = "base";
@@ -195,7 +209,8 @@ TEST_CASE("selections and semantic errors name the handle and its path", "[scene
   CHECK_THAT(error_of(doc), Catch::Contains("doc.json: /deformer/to: no handle named 'top'"));
   doc["deformer"]["to"] = "tip";
   doc["deformer"]["basis"] = "quadratic";
-  CHECK_THAT(error_of(doc), Catch::Contains("doc.json: /deformer/keys:") && Catch::Contains("exactly 3 keys"));
+  CHECK_THAT(error_of(doc),
+             Catch::Contains("doc.json: /deformer/keys:") && Catch::Contains("exactly 3 keys"));
 
   // Plane selection: the side the normal points to.
   doc = base_doc();
@@ -289,7 +304,7 @@ TEST_CASE("scene snap modes: spin with rho smoothing, shape (extrusion), keys of
   CHECK(sh["mode"] == "shape");
   CHECK(sh["closure"].size() == 2);
   INFO("edit Q_mean " << q_edit << ", shape snap " << sh["q_mean"] << ", rms " << sh["rms_edit_to_snap"]);
-  CHECK(sh["q_mean"].get<double>() < q_edit);  // more conformal than the edit
+  CHECK(sh["q_mean"].get<double>() < q_edit);          // more conformal than the edit
   CHECK(sh["rms_edit_to_snap"].get<double>() < 0.15);  // and near it (relative to the diagonal)
   CHECK((rh.frames[0].V_unsnapped - rs.frames[0].V_unsnapped).cwiseAbs().maxCoeff() == 0);  // same edit
 
@@ -354,9 +369,9 @@ TEST_CASE("spline scene with named keys in matrix, quaternion and rotate forms",
 
 TEST_CASE("spinmotor deform: a good scene writes its outputs and prints JSON", "[scene][cli]") {
   TempDir tmp;
-  const CliResult r = run_cli("deform '" + (kScenes / "sh_tube.json").string() + "' --json --out-dir '" +
-                                  tmp.path.string() + "'",
-                              tmp.path);
+  const CliResult r = run_cli(
+      "deform '" + (kScenes / "sh_tube.json").string() + "' --json --out-dir '" + tmp.path.string() + "'",
+      tmp.path);
   CHECK(r.code == 0);
   CAPTURE(r.err);
   const json j = json::parse(r.out);
@@ -365,9 +380,9 @@ TEST_CASE("spinmotor deform: a good scene writes its outputs and prints JSON", "
   CHECK(fs::exists(tmp.path / "out/sh_tube.json"));
   CHECK(fs::exists(tmp.path / "out/sh_tube_q.ply"));
 
-  const CliResult f = run_cli("deform '" + (kScenes / "frames_tube.json").string() + "' --out-dir '" +
-                                  tmp.path.string() + "'",
-                              tmp.path);
+  const CliResult f = run_cli(
+      "deform '" + (kScenes / "frames_tube.json").string() + "' --out-dir '" + tmp.path.string() + "'",
+      tmp.path);
   CHECK(f.code == 0);
   CHECK_THAT(f.err, !Catch::Contains("warning"));
   CHECK_THAT(f.out, Catch::Contains("frame 2: pose"));
@@ -384,18 +399,21 @@ TEST_CASE("spinmotor deform: bad scenes exit 2, name the path, write nothing", "
   };
   const Case cases[] = {
       {"empty_handle.json", {"empty_handle.json: /handles/1/select: handle 'nowhere' selects no vertex"}},
-      {"shared_vertex.json", {"shared_vertex.json: /handles/1: handle 'overlap' shares vertex", "with handle 'base'"}},
+      {"shared_vertex.json",
+       {"shared_vertex.json: /handles/1: handle 'overlap' shares vertex", "with handle 'base'"}},
       {"unknown_key.json", {"unknown_key.json: /deformer/wieghts: unknown key 'wieghts'"}},
       {"unknown_pose_key.json", {"unknown_pose_key.json: /pose/tpi: no handle or control named 'tpi'"}},
       {"non_rigid.json", {"non_rigid.json: /pose/tip/matrix: not a rigid motion"}},
-      {"component_without_handle.json", {"component_without_handle.json", "connected component 1", "no constrained vertex"}},
-      {"short_vector.json", {"short_vector.json: /handles/1/select/box/min: expected at least 3 items, got 2"}},
+      {"component_without_handle.json",
+       {"component_without_handle.json", "connected component 1", "no constrained vertex"}},
+      {"short_vector.json",
+       {"short_vector.json: /handles/1/select/box/min: expected at least 3 items, got 2"}},
   };
   for (const Case& c : cases) {
     TempDir tmp;
     const fs::path out = tmp.path / "outdir";
-    const CliResult r = run_cli("deform '" + (kScenes / "bad" / c.file).string() + "' --out-dir '" + out.string() + "'",
-                                tmp.path);
+    const CliResult r = run_cli(
+        "deform '" + (kScenes / "bad" / c.file).string() + "' --out-dir '" + out.string() + "'", tmp.path);
     CAPTURE(c.file, r.err);
     CHECK(r.code == 2);
     for (const char* m : c.message) CHECK_THAT(r.err, Catch::Contains(m));
@@ -411,14 +429,15 @@ TEST_CASE("spinmotor deform: bad scenes exit 2, name the path, write nothing", "
   CHECK_THAT(broken.err, Catch::Contains("broken.json: invalid JSON") && Catch::Contains("line 2"));
 }
 
-TEST_CASE("spinmotor deform: a failure after the first frame of an animation leaves no output", "[scene][cli][errors]") {
+TEST_CASE("spinmotor deform: a failure after the first frame of an animation leaves no output",
+          "[scene][cli][errors]") {
   // Injected failure: the mesh of frame 1 cannot be written because a directory occupies its path. The
   // frames are computed first; frame 0's mesh and metrics are written and must be removed again.
   TempDir tmp;
   const fs::path out = tmp.path / "outdir";
   fs::create_directories(out / "out" / "frames_tube.0001.obj" / "blocker");
-  const CliResult r = run_cli("deform '" + (kScenes / "frames_tube.json").string() + "' --out-dir '" + out.string() + "'",
-                              tmp.path);
+  const CliResult r = run_cli(
+      "deform '" + (kScenes / "frames_tube.json").string() + "' --out-dir '" + out.string() + "'", tmp.path);
   CAPTURE(r.err);
   CHECK((r.code == 2 || r.code == 3));
   CHECK_THAT(r.err, Catch::Contains("frames_tube.0001.obj"));
@@ -426,8 +445,8 @@ TEST_CASE("spinmotor deform: a failure after the first frame of an animation lea
   CHECK(fs::is_directory(out / "out" / "frames_tube.0001.obj" / "blocker"));
   // without the blocker the same command writes all 3 frames (mesh + metrics)
   fs::remove_all(out);
-  const CliResult ok = run_cli("deform '" + (kScenes / "frames_tube.json").string() + "' --out-dir '" + out.string() + "'",
-                               tmp.path);
+  const CliResult ok = run_cli(
+      "deform '" + (kScenes / "frames_tube.json").string() + "' --out-dir '" + out.string() + "'", tmp.path);
   CHECK(ok.code == 0);
   CHECK(count_files(out) == 6);
 }

@@ -1,15 +1,15 @@
 // Scene deformer types `ffd`, `cage` and `skin` through the `spinmotor deform` binary: good scenes run
 // and write their outputs (the posed controls act as named), bad cages and bad weight files exit with
 // code 2, name the problem and write nothing; schema keys of docs/scene.md are accepted, typos rejected.
-#include <catch2/catch.hpp>
-#include <nlohmann/json.hpp>
+#include <sys/wait.h>
 
+#include <catch2/catch.hpp>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
-#include <sys/wait.h>
 
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/generators.hpp"
@@ -27,7 +27,8 @@ struct TempDir {
   fs::path path;
   TempDir() {
     std::random_device rd;
-    path = fs::temp_directory_path() / ("spinmotor-ffd-cage-skin-" + std::to_string(rd()) + std::to_string(rd()));
+    path = fs::temp_directory_path() /
+           ("spinmotor-ffd-cage-skin-" + std::to_string(rd()) + std::to_string(rd()));
     fs::create_directories(path);
   }
   ~TempDir() {
@@ -44,8 +45,8 @@ struct CliResult {
 CliResult deform(const fs::path& dir, const json& doc) {
   std::ofstream(dir / "scene.json") << doc.dump(1);
   const fs::path err = dir / "stderr.txt";
-  const std::string cmd = std::string(SPINMOTOR_CLI) + " deform '" + (dir / "scene.json").string() + "' > /dev/null 2> '" +
-                          err.string() + "'";
+  const std::string cmd = std::string(SPINMOTOR_CLI) + " deform '" + (dir / "scene.json").string() +
+                          "' > /dev/null 2> '" + err.string() + "'";
   const int status = std::system(cmd.c_str());
   CliResult r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -122,7 +123,8 @@ TEST_CASE("ffd scene: controls posed by name, metrics count the controls", "[sce
   CHECK(e.err.find("ffd[2,0,0]") != std::string::npos);
 }
 
-TEST_CASE("cage scene: good cage runs, open or inconsistently oriented cages exit 2 without output", "[scene][cage]") {
+TEST_CASE("cage scene: good cage runs, open or inconsistently oriented cages exit 2 without output",
+          "[scene][cage]") {
   TempDir t;
   Mesh cage = icosphere(1, 2.0);
   cage.UV.resize(0, 2);
@@ -164,13 +166,15 @@ TEST_CASE("cage scene: good cage runs, open or inconsistently oriented cages exi
   CHECK(!fs::exists(t.path / "out"));
 }
 
-TEST_CASE("cage scene: a bounding-box cage needs no file and moves the mesh with its corners", "[scene][cage]") {
+TEST_CASE("cage scene: a bounding-box cage needs no file and moves the mesh with its corners",
+          "[scene][cage]") {
   TempDir t;
   json doc = cage_scene();
   doc["deformer"]["cage"] = {{"box", {{"margin", 0.1}}}};
   doc["deformer"]["coordinates"] = "mean-value";
   doc["pose"] = json::object();
-  for (int j = 0; j < 8; ++j) doc["pose"]["cage[" + std::to_string(j) + "]"] = {{"translate", {0.25, 0, -0.5}}};
+  for (int j = 0; j < 8; ++j)
+    doc["pose"]["cage[" + std::to_string(j) + "]"] = {{"translate", {0.25, 0, -0.5}}};
   const CliResult r = deform(t.path, doc);
   INFO(r.err);
   REQUIRE(r.code == 0);
@@ -179,7 +183,8 @@ TEST_CASE("cage scene: a bounding-box cage needs no file and moves the mesh with
   // Mean-value coordinates reproduce affine maps: all corners translated = the mesh translated.
   const Mesh rest = torus(1, 0.4, 32, 16), out = read_mesh(t.path / "out/cage.obj");
   REQUIRE(out.V.rows() == rest.V.rows());
-  CHECK(((out.V - rest.V).rowwise() - Eigen::RowVector3d(0.25, 0, -0.5)).cwiseAbs().maxCoeff() < 1e-5);  // OBJ digits
+  CHECK(((out.V - rest.V).rowwise() - Eigen::RowVector3d(0.25, 0, -0.5)).cwiseAbs().maxCoeff() <
+        1e-5);  // OBJ digits
   fs::remove_all(t.path / "out");
   doc["deformer"]["cage"] = {{"box", {{"margin", -1}}}};
   const CliResult bad = deform(t.path, doc);
@@ -196,7 +201,7 @@ TEST_CASE("skin scene: harmonic weights run, bad weight files exit 2 naming file
     REQUIRE(r.code == 0);
     const Mesh out = read_mesh(t.path / "out/skin.obj");
     const Mesh rest = tube(0.5, 4, 41, 16, true);
-    CHECK((out.V.row(0) - rest.V.row(0)).norm() < 1e-12);        // ring 0: upper bone only (identity)
+    CHECK((out.V.row(0) - rest.V.row(0)).norm() < 1e-12);            // ring 0: upper bone only (identity)
     CHECK((out.V.row(40 * 16) - rest.V.row(40 * 16)).norm() > 1.0);  // top ring: follows the lower bone
   }
   fs::remove_all(t.path / "out");

@@ -1,10 +1,9 @@
 // IK-driven spline deformation end to end (CGA paper §III.C, Fig. 5): a scene with an `ik` block bends
 // a tube with FABRIK → joint motors → cubic B-spline fit → spline-aligned deformation, and the tube's
 // tip lands on the target within radius/100. Also the variant with a posed chain given in `fit`.
-#include <catch2/catch.hpp>
-
 #include <sys/wait.h>
 
+#include <catch2/catch.hpp>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -70,11 +69,13 @@ TEST_CASE("a posed chain given in `fit` drives the spline deformer the same way"
   // Solve the chain here and hand the posed joints to the scene instead of the ik block.
   Eigen::MatrixXd chain(5, 3);
   for (int i = 0; i < 5; ++i) chain.row(i) << 0, 0, i;
-  const FabrikResult f = fabrik(chain, Eigen::Vector3d(1.5, 0, 3.2), {.tolerance = 1e-4, .max_iterations = 100});
+  const FabrikResult f =
+      fabrik(chain, Eigen::Vector3d(1.5, 0, 3.2), {.tolerance = 1e-4, .max_iterations = 100});
   json posed = json::array();
   for (int i = 0; i < 5; ++i) posed.push_back({f.joints(i, 0), f.joints(i, 1), f.joints(i, 2)});
   doc.erase("ik");
-  doc["deformer"]["fit"] = {{"chain", json::parse("[[0,0,0],[0,0,1],[0,0,2],[0,0,3],[0,0,4]]")}, {"posed", posed}};
+  doc["deformer"]["fit"] = {{"chain", json::parse("[[0,0,0],[0,0,1],[0,0,2],[0,0,3],[0,0,4]]")},
+                            {"posed", posed}};
   const Scene s = parse_scene(doc, kScenes, "fit.json");
   const RunResult r = run_scene(s);
   CHECK((centroid(r.frames[0].V, s.handles[1]) - f.joints.row(4).transpose()).norm() < 1e-10);
@@ -99,11 +100,13 @@ TEST_CASE("spinmotor deform runs the IK scene", "[scene][ik][cli]") {
   fs::remove_all(tmp);
 }
 
-TEST_CASE("the IK target animates: frames move the control 'ik.target' and the tip follows each", "[scene][ik]") {
+TEST_CASE("the IK target animates: frames move the control 'ik.target' and the tip follows each",
+          "[scene][ik]") {
   json doc = json::parse(std::ifstream(kScenes / "ik_tube.json"));
   doc["frames"] = json::array();
   const Eigen::Vector3d moves[3] = {{0, 0, 0}, {0, 0.5, 0}, {-0.5, 0.3, -0.4}};
-  for (const auto& t : moves) doc["frames"].push_back({{"ik.target", {{"translate", {t.x(), t.y(), t.z()}}}}});
+  for (const auto& t : moves)
+    doc["frames"].push_back({{"ik.target", {{"translate", {t.x(), t.y(), t.z()}}}}});
   const Scene s = parse_scene(doc, kScenes, "ik_frames.json");
   const RunResult r = run_scene(s);
   REQUIRE(r.frames.size() == 3);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "shared_data.hpp"
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
@@ -12,7 +13,6 @@
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
 #include "spinmotor/spin/curvature_spin_flow.hpp"
 #include "spinmotor/spin/edge_constraint_net.hpp"
-#include "shared_data.hpp"
 
 using namespace spinmotor;
 

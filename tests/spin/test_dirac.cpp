@@ -1,9 +1,8 @@
 // Discrete Dirac operator of Crane, Pinkall & Schröder 2011 (§5): explicit operators against closed
 // forms, the direct 4×4-block assembly against the explicit products, and the spectrum on the sphere
 // (§6.2).
-#include <catch2/catch.hpp>
-
 #include <Eigen/Dense>
+#include <catch2/catch.hpp>
 
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"

@@ -4,12 +4,12 @@
 #include <cmath>
 #include <cstdio>
 
+#include "shared_data.hpp"
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/spin/dirac_fairing.hpp"
 #include "spinmotor/spin/edge_constraint_net.hpp"
-#include "shared_data.hpp"
 
 using namespace spinmotor;
 

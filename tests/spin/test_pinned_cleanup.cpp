@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "cli_support.hpp"
-#include "spinmotor/deform/rig_pins.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/deform/rig_pins.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/topology.hpp"

@@ -2,16 +2,14 @@
 // returned exactly, exact spin transformations are recovered (with their ρ up to a constant), the
 // q/−q sign of per-face similarities does not matter, non-conformal edits (twist, bend, a
 // surface-harmonic pose) snap to Q ≈ 1, and eq. 6 against eq. 7 on an exact spin transformation.
-#include <catch2/catch.hpp>
-
 #include <Eigen/Geometry>
-
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <random>
 
-#include "spinmotor/deform/surface_harmonic.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/deform/surface_harmonic.hpp"
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
 #include "spinmotor/mesh/generators.hpp"
@@ -30,7 +28,9 @@ using Eigen::VectorXd;
 namespace {
 
 double diag(const MatrixXd& V) { return (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm(); }
-double q_mean(const Mesh& rest, const MatrixXd& V) { return quasi_conformal_summary(rest.V, rest.F, V).q_mean; }
+double q_mean(const Mesh& rest, const MatrixXd& V) {
+  return quasi_conformal_summary(rest.V, rest.F, V).q_mean;
+}
 /// RMS vertex distance / rest diagonal after the best similarity of V onto ref.
 double rms_similarity(const MatrixXd& ref, const MatrixXd& V) {
   return vertex_distances(ref, V, Alignment::Similarity).rms;
@@ -114,7 +114,8 @@ TEST_CASE("snapping a similarity-transformed mesh returns it", "[snap]") {
   CHECK((rt.V - edit).cwiseAbs().maxCoeff() / diag(edit) < 1e-8);
 }
 
-TEST_CASE("an exact spin transformation is recovered, with rho up to a constant, eq. 6 against eq. 7", "[snap]") {
+TEST_CASE("an exact spin transformation is recovered, with rho up to a constant, eq. 6 against eq. 7",
+          "[snap]") {
   const Mesh m = icosphere(3);  // unit size
   const VectorXd rho = smooth_rho(m, 0.1);
   const SpinTransformResult ex = spin_transform(m, rho);
@@ -130,10 +131,11 @@ TEST_CASE("an exact spin transformation is recovered, with rho up to a constant,
     const VectorXd diff = r.rho - rho;
     const double gamma = A.dot(diff) / A.sum();
     const double rho_err = std::sqrt(A.dot((diff.array() - gamma).square().matrix()) / A.sum());
-    std::printf("exact spin transformation (%s): RMS %.3g, max %.3g of the diagonal; rho - rho_true = gamma %.3g "
-                "+ RMS %.3g (amplitude 0.1); Q_mean edit %.6f snap %.6f; eigenvalue %.3g\n",
-                p == SpinEigenProblem::Standard ? "eq. 7" : "eq. 6", err, emax, gamma, rho_err, q_mean(m, ex.V),
-                q_mean(m, r.V), r.eigenvalue);
+    std::printf(
+        "exact spin transformation (%s): RMS %.3g, max %.3g of the diagonal; rho - rho_true = gamma %.3g "
+        "+ RMS %.3g (amplitude 0.1); Q_mean edit %.6f snap %.6f; eigenvalue %.3g\n",
+        p == SpinEigenProblem::Standard ? "eq. 7" : "eq. 6", err, emax, gamma, rho_err, q_mean(m, ex.V),
+        q_mean(m, r.V), r.eigenvalue);
     if (p == SpinEigenProblem::Standard) {
       CHECK(emax < 1e-3);
       CHECK(rho_err < 0.1 * 0.1);
@@ -146,7 +148,8 @@ TEST_CASE("an exact spin transformation is recovered, with rho up to a constant,
 TEST_CASE("the optimal rho makes mu orthogonal to B*A mu", "[snap]") {
   const Mesh m = icosphere(2);
   const MatrixXd edit = twist(m.V * 1.0, 40.0);
-  const MatrixXd mu = vertex_similarities(m.F, m.V.rows(), best_fit_similarities(m.V, m.F, edit), face_areas(m.V, m.F));
+  const MatrixXd mu =
+      vertex_similarities(m.F, m.V.rows(), best_fit_similarities(m.V, m.F, edit), face_areas(m.V, m.F));
   const VectorXd rho = nearest_rho(m.V, m.F, mu);
   // Σ_f A_f Re(conj(Bμ)_f ((D − ρB)μ)_f) = 0 face by face: recompute with the closed form.
   double worst = 0;
@@ -160,7 +163,8 @@ TEST_CASE("the optimal rho makes mu orthogonal to B*A mu", "[snap]") {
       Bmu += (1.0 / 3.0) * q;
     }
     const ga::Quat res = Dmu - rho[f] * Bmu;
-    worst = std::max(worst, std::abs((ga::conj(Bmu) * res).w()) / std::sqrt(ga::norm2(Bmu) * ga::norm2(Dmu) + 1e-300));
+    worst = std::max(
+        worst, std::abs((ga::conj(Bmu) * res).w()) / std::sqrt(ga::norm2(Bmu) * ga::norm2(Dmu) + 1e-300));
   }
   CHECK(worst < 1e-12);
 }
@@ -195,10 +199,12 @@ TEST_CASE("a twisted sausage snaps back to the untwisted one (Fig. 21)", "[snap]
   const ConformalSnapResult r = cs.snap(edit);
   const double q1 = q_mean(m, r.V), to_rest = rms_similarity(m.V, r.V);
   const double max_rest = vertex_distances(m.V, r.V, Alignment::Similarity).max;
-  std::printf("sausage twist 90: Q_mean before %.4f after %.5f; distance to rest RMS %.3g max %.3g of diag; to edit %.3g; "
-              "times (ms) fit %.1f eigen %.1f poisson %.1f\n",
-              q0, q1, to_rest, max_rest, vertex_distances(edit, r.V).rms, r.timings.similarity_fit, r.timings.eigen,
-              r.timings.poisson);
+  std::printf(
+      "sausage twist 90: Q_mean before %.4f after %.5f; distance to rest RMS %.3g max %.3g of diag; to edit "
+      "%.3g; "
+      "times (ms) fit %.1f eigen %.1f poisson %.1f\n",
+      q0, q1, to_rest, max_rest, vertex_distances(edit, r.V).rms, r.timings.similarity_fit, r.timings.eigen,
+      r.timings.poisson);
   CHECK(q0 == Approx(1.238).margin(0.002));
   CHECK(q1 <= 1.01);
   CHECK(max_rest <= 0.005);
@@ -214,13 +220,14 @@ TEST_CASE("a bent sausage snaps to a near-conformal shape, the tradeoff interpol
     cs.set_tradeoff(t);
     const ConformalSnapResult r = cs.snap(edit);
     const double q1 = q_mean(m, r.V), rms = vertex_distances(edit, r.V).rms;
-    std::printf("sausage bend 90, t = %.2f: Q_mean before %.4f after %.5f; RMS to edit %.4f of diag; bend angle edit "
-                "%.1f snap %.1f deg\n",
-                t, q0, q1, rms, a_edit, bend_angle(m.V, r.V));
+    std::printf(
+        "sausage bend 90, t = %.2f: Q_mean before %.4f after %.5f; RMS to edit %.4f of diag; bend angle edit "
+        "%.1f snap %.1f deg\n",
+        t, q0, q1, rms, a_edit, bend_angle(m.V, r.V));
     if (t == 0.0) {
       CHECK(rms < 0.01);  // μ integrated back: the edit up to the Poisson fit
     } else {
-      CHECK(q1 < prev_q);  // more conformal ...
+      CHECK(q1 < prev_q);     // more conformal ...
       CHECK(rms > prev_rms);  // ... and farther from the edit as t grows
     }
     if (t == 1.0) CHECK(q1 <= 1.02);
@@ -254,10 +261,11 @@ TEST_CASE("a tube bent by the surface-harmonic deformer snaps to Q near 1", "[sn
       // Q_mean over the side faces only (the caps are fans of needle triangles).
       const Index side = 2 * (rings - 1) * sides;
       const Mesh sm{m.V, m.F.topRows(side), {}, {}};
-      std::printf("surface-harmonic %s tube bent %.0f deg: Q_mean before %.4f after %.5f (side faces %.4f -> %.5f); "
-                  "RMS to edit %.4f of diag\n",
-                  capped ? "capped" : "open", degrees, q0, q1, q_mean(sm, edit), q_mean(sm, res.V),
-                  vertex_distances(edit, res.V).rms);
+      std::printf(
+          "surface-harmonic %s tube bent %.0f deg: Q_mean before %.4f after %.5f (side faces %.4f -> %.5f); "
+          "RMS to edit %.4f of diag\n",
+          capped ? "capped" : "open", degrees, q0, q1, q_mean(sm, edit), q_mean(sm, res.V),
+          vertex_distances(edit, res.V).rms);
       CHECK(q1 < q0);
       if (degrees == 45.0) CHECK(q1 <= 1.02);
     }
@@ -275,8 +283,8 @@ TEST_CASE("open surfaces take the edit's boundary tangents (5.7)", "[snap]") {
   }
   const ConformalSnapResult r = conformal_snap(g, edit);
   const double rms = vertex_distances(edit, r.V).rms;
-  std::printf("grid rolled 90 deg: Q_mean before %.5f after %.5f; RMS to edit %.3g of diag\n", q_mean(g, edit),
-              q_mean(g, r.V), rms);
+  std::printf("grid rolled 90 deg: Q_mean before %.5f after %.5f; RMS to edit %.3g of diag\n",
+              q_mean(g, edit), q_mean(g, r.V), rms);
   CHECK(rms < 2e-3);
   CHECK(q_mean(g, r.V) < 1.01);
 }
@@ -289,11 +297,14 @@ TEST_CASE("rho smoothing tames a creased edit", "[snap]") {
   for (Index i = 0; i < m.V.rows(); ++i)
     if (m.V(i, 2) > 0) edit.row(i) = (R * m.V.row(i).transpose()).transpose();
   const double q0 = q_mean(m, edit);
-  const ConformalSnapResult raw = conformal_snap(m, edit), smooth = conformal_snap(m, edit, {.rho_smoothing = 20});
+  const ConformalSnapResult raw = conformal_snap(m, edit),
+                            smooth = conformal_snap(m, edit, {.rho_smoothing = 20});
   const double q_raw = q_mean(m, raw.V), q_smooth = q_mean(m, smooth.V);
-  std::printf("creased sausage: Q_mean edit %.4f, snap %.4f (max |rho| %.3g), with 20 smoothing passes %.4f (max |rho| "
-              "%.3g)\n",
-              q0, q_raw, raw.rho.cwiseAbs().maxCoeff(), q_smooth, smooth.rho.cwiseAbs().maxCoeff());
+  std::printf(
+      "creased sausage: Q_mean edit %.4f, snap %.4f (max |rho| %.3g), with 20 smoothing passes %.4f (max "
+      "|rho| "
+      "%.3g)\n",
+      q0, q_raw, raw.rho.cwiseAbs().maxCoeff(), q_smooth, smooth.rho.cwiseAbs().maxCoeff());
   CHECK(smooth.rho.cwiseAbs().maxCoeff() < raw.rho.cwiseAbs().maxCoeff());
   CHECK(q_smooth < q_raw);
   CHECK_THROWS_AS(ConformalSnap(m, {.rho_smoothing = -1}), Error);
@@ -312,4 +323,3 @@ TEST_CASE("conformal snap rejects bad input", "[snap]") {
   const Mesh g = grid(Eigen::Vector2d(1.0, 1.0), Eigen::Vector2i(4, 4));
   CHECK_THROWS_WITH(ConformalSnap(g, {.problem = SpinEigenProblem::Generalized}), Catch::Contains("closed"));
 }
-

@@ -1,15 +1,14 @@
 // Spin transformations (Crane, Pinkall & Schröder 2011, §5–§6): identity for ρ = 0, the reference
 // SpinXForm case, convergence under refinement, boundary tangents (§5.7), input errors.
-#include <catch2/catch.hpp>
-
 #include <Eigen/Dense>
-
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <fstream>
 #include <iterator>
 #include <string>
 #include <vector>
 
+#include "shared_data.hpp"
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
 #include "spinmotor/mesh/generators.hpp"
@@ -20,7 +19,6 @@
 #include "spinmotor/spin/curvature_change.hpp"
 #include "spinmotor/spin/scalar_expression.hpp"
 #include "spinmotor/spin/spin_transform.hpp"
-#include "shared_data.hpp"
 
 using namespace spinmotor;
 
@@ -89,7 +87,8 @@ TEST_CASE("rho = 0 returns a similarity of the input (Q = 1, positions equal aft
         const SpinTransformResult r = spin_transform(m, rho, o);
         const QuasiConformalSummary q = quasi_conformal_summary(m.V, m.F, r.V);
         const VertexDistances d = vertex_distances(m.V, r.V, Alignment::Similarity);
-        INFO("problem " << static_cast<int>(problem) << " complex " << complex << " iterations " << r.iterations);
+        INFO("problem " << static_cast<int>(problem) << " complex " << complex << " iterations "
+                        << r.iterations);
         CHECK(q.q_max - 1.0 < 1e-8);
         CHECK(d.rms < 1e-8);
         CHECK(std::abs(r.eigenvalue) < 1e-8);
@@ -128,9 +127,9 @@ TEST_CASE("reference case: SpinXForm's sphere.obj + bumpy.tga", "[spin][referenc
   const SpinTransformResult compat = spin_transform(m, rho, SpinTransformOptions::spinxform());
   const VertexDistances dc = vertex_distances(ref.V, compat.V, Alignment::None);
   const QuasiConformalSummary qc = quasi_conformal_summary(m.V, m.F, compat.V);
-  WARN("SpinXForm-compatible: RMS to bumpy_reference.obj " << dc.rms << " (max " << dc.max
-                                                            << ") of the bbox diagonal, Q_mean " << qc.q_mean
-                                                            << ", Q_max " << qc.q_max);
+  WARN("SpinXForm-compatible: RMS to bumpy_reference.obj "
+       << dc.rms << " (max " << dc.max << ") of the bbox diagonal, Q_mean " << qc.q_mean << ", Q_max "
+       << qc.q_max);
   CHECK(compat.iterations == 3);
   CHECK(dc.rms <= 1e-3);
   CHECK(dc.rms <= 1e-5);  // in fact it matches to the reference file's 6 significant digits
@@ -147,25 +146,24 @@ TEST_CASE("reference case: SpinXForm's sphere.obj + bumpy.tga", "[spin][referenc
                                           << ", RMS to the reference " << dd.rms << " (max " << dd.max
                                           << "), Q_mean " << qd.q_mean << ", Q_max " << qd.q_max);
   CHECK(conv.residual < o.tolerance);
-  CHECK(qd.q_mean < qc.q_mean);         // converging lowers the conformal error
-  CHECK(dd.max < 1.5e-2);               // README: a converged eigenvector differs by up to 1.5e-2
-  CHECK(dd.rms > 10 * dc.rms);          // and it is not the 3-iteration result
+  CHECK(qd.q_mean < qc.q_mean);  // converging lowers the conformal error
+  CHECK(dd.max < 1.5e-2);        // README: a converged eigenvector differs by up to 1.5e-2
+  CHECK(dd.rms > 10 * dc.rms);   // and it is not the 3-iteration result
 
   // Converged unweighted problem: the limit of the reference's own iteration.
   SpinTransformOptions u = o;
   u.problem = SpinEigenProblem::Unweighted;
   const SpinTransformResult unw = spin_transform(m, rho, u);
   const VertexDistances du = vertex_distances(ref.V, unw.V, Alignment::None);
-  WARN("converged unweighted problem: RMS to the reference " << du.rms << ", Q_mean "
-                                                             << quasi_conformal_summary(m.V, m.F, unw.V).q_mean);
+  WARN("converged unweighted problem: RMS to the reference "
+       << du.rms << ", Q_mean " << quasi_conformal_summary(m.V, m.F, unw.V).q_mean);
   CHECK(unw.residual < u.tolerance);
 }
 
 TEST_CASE("the real 4x4-block and complex 2x2-block forms give the same transformation", "[spin]") {
   const Mesh m = bumpy_closed(2);
-  const Eigen::VectorXd rho = face_rho_from_function(m.V, m.F, [](const Eigen::Vector3d& p) {
-    return 4.0 * std::sin(4 * p.x()) * std::cos(3 * p.z());
-  });
+  const Eigen::VectorXd rho = face_rho_from_function(
+      m.V, m.F, [](const Eigen::Vector3d& p) { return 4.0 * std::sin(4 * p.x()) * std::cos(3 * p.z()); });
   for (const auto problem : {SpinEigenProblem::Standard, SpinEigenProblem::Generalized}) {
     SpinTransformOptions o;
     o.problem = problem;
@@ -185,9 +183,12 @@ TEST_CASE("the real 4x4-block and complex 2x2-block forms give the same transfor
   }
 }
 
-TEST_CASE("convergence: Q_mean - 1 decreases about linearly with the mean edge length (Fig. 12)", "[spin][convergence]") {
+TEST_CASE("convergence: Q_mean - 1 decreases about linearly with the mean edge length (Fig. 12)",
+          "[spin][convergence]") {
   // A fixed smooth bump pattern ρ(x) on icospheres of three refinements.
-  auto rho_of = [](const Eigen::Vector3d& p) { return 6.0 * std::sin(3 * p.x()) * std::sin(3 * p.y()) * std::sin(3 * p.z()); };
+  auto rho_of = [](const Eigen::Vector3d& p) {
+    return 6.0 * std::sin(3 * p.x()) * std::sin(3 * p.y()) * std::sin(3 * p.z());
+  };
   std::vector<double> h, err;
   for (int level : {2, 3, 4}) {
     const Mesh m = icosphere(level);
@@ -200,8 +201,8 @@ TEST_CASE("convergence: Q_mean - 1 decreases about linearly with the mean edge l
     err.push_back(q.q_mean - 1.0);
   }
   const double slope = std::log(err[2] / err[0]) / std::log(h[2] / h[0]);
-  WARN("mean edge length " << h[0] << ", " << h[1] << ", " << h[2] << "; Q_mean - 1 " << err[0] << ", " << err[1]
-                           << ", " << err[2] << "; log-log slope " << slope);
+  WARN("mean edge length " << h[0] << ", " << h[1] << ", " << h[2] << "; Q_mean - 1 " << err[0] << ", "
+                           << err[1] << ", " << err[2] << "; log-log slope " << slope);
   CHECK(err[1] < err[0]);
   CHECK(err[2] < err[1]);
   CHECK(slope > 0.7);
@@ -282,7 +283,8 @@ TEST_CASE("bad input gives clear errors", "[spin][errors]") {
     Mesh d = m;
     d.F.conservativeResize(m.F.rows() + 1, 3);
     d.F.row(m.F.rows()) << m.F(0, 0), m.F(0, 1), m.F(5, 2);  // a third face on edge (F00, F01)
-    CHECK_THAT(message([&] { spin_transform(d, Eigen::VectorXd::Zero(d.F.rows())); }), Catch::Contains("manifold"));
+    CHECK_THAT(message([&] { spin_transform(d, Eigen::VectorXd::Zero(d.F.rows())); }),
+               Catch::Contains("manifold"));
   }
   SECTION("empty") {
     Mesh e;
@@ -300,7 +302,8 @@ TEST_CASE("bad input gives clear errors", "[spin][errors]") {
     CHECK_THAT(message([&] { face_rho_from_image(d, img); }), Catch::Contains("texture coordinates"));
   }
   SECTION("unreadable image") {
-    CHECK_THAT(message([&] { read_grayscale_image(kSpinDir + "sphere.obj"); }), Catch::Contains("sphere.obj"));
+    CHECK_THAT(message([&] { read_grayscale_image(kSpinDir + "sphere.obj"); }),
+               Catch::Contains("sphere.obj"));
   }
   SECTION("rho of the wrong size or not finite") {
     CHECK_THAT(message([&] { spin_transform(m, Eigen::VectorXd::Zero(3)); }), Catch::Contains("faces"));
@@ -312,7 +315,8 @@ TEST_CASE("bad input gives clear errors", "[spin][errors]") {
     const Mesh d = unit_disk(3);
     SpinTransformOptions o;
     o.problem = SpinEigenProblem::Generalized;
-    CHECK_THAT(message([&] { spin_transform(d, Eigen::VectorXd::Zero(d.F.rows()), o); }), Catch::Contains("closed"));
+    CHECK_THAT(message([&] { spin_transform(d, Eigen::VectorXd::Zero(d.F.rows()), o); }),
+               Catch::Contains("closed"));
     SpinTransformOptions b;
     b.boundary.vertices = Eigen::VectorXi::Constant(1, 0);  // the centre
     b.boundary.targets = Eigen::RowVector3d(1, 0, 0);
@@ -368,7 +372,8 @@ TEST_CASE("rho inputs: per vertex, scalar expression, image sampling", "[spin][r
   const Eigen::VectorXd ri = face_rho_from_image(t, img, 5.0);
   CHECK(ri[0] == Approx((2.0 * 102.0 / 255.0 - 1.0) * 5.0));
   // The reference image's corner pixels, as stored in the TGA file (bottom row first).
-  const GrayscaleImage bumpy = read_grayscale_image(std::string(SPINMOTOR_MESHES_DIR) + "/spinxform/bumpy.tga");
+  const GrayscaleImage bumpy =
+      read_grayscale_image(std::string(SPINMOTOR_MESHES_DIR) + "/spinxform/bumpy.tga");
   CHECK(bumpy.width == 512);
   CHECK(bumpy.height == 512);
   std::ifstream raw(std::string(SPINMOTOR_MESHES_DIR) + "/spinxform/bumpy.tga", std::ios::binary);

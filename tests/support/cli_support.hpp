@@ -48,7 +48,8 @@ inline Run run_cli(const std::filesystem::path& dir, const std::string& args) {
 /// A scratch directory named after the process (ctest runs every test case in its own process).
 struct TempDir {
   std::filesystem::path path;
-  TempDir() : path(std::filesystem::temp_directory_path() / ("spinmotor_cli_test_" + std::to_string(getpid()))) {
+  TempDir()
+      : path(std::filesystem::temp_directory_path() / ("spinmotor_cli_test_" + std::to_string(getpid()))) {
     std::filesystem::create_directories(path);
   }
   ~TempDir() { std::filesystem::remove_all(path); }

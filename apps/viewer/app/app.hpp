@@ -6,11 +6,11 @@
 #include <string>
 #include <vector>
 
+#include "spinmotor/core/stopwatch.hpp"
 #include "spinmotor/render/mesh_renderer.hpp"
 #include "spinmotor/render/orbit_camera.hpp"
 #include "spinmotor/viewer/gizmo.hpp"
 #include "spinmotor/viewer/session.hpp"
-#include "spinmotor/core/stopwatch.hpp"
 
 namespace spinmotor::viewer::app {
 
@@ -26,8 +26,8 @@ struct Args {
   int frames = 0;
   double tradeoff = 1.0;
   bool keep_pose = false;  ///< --snap --keep-pose: the pose-keeping cleanup with the handles pinned
-  int smoke_frames = 0;   ///< window mode: run this many frames, then exit (smoke test under Xvfb)
-  std::string smoke_png;  ///< ... and save the last window frame (mesh + UI) here
+  int smoke_frames = 0;    ///< window mode: run this many frames, then exit (smoke test under Xvfb)
+  std::string smoke_png;   ///< ... and save the last window frame (mesh + UI) here
 };
 
 int run_headless(const Args& a);
@@ -53,7 +53,8 @@ std::vector<double> parse_numbers(const std::string& text, const char* option, s
 /// The motor a mouse drag of control `g.control`'s gizmo gives (simulated_drag: a press ray and a
 /// release ray through `camera`). The gizmo sits at Session::posed_anchor. Error for an unknown
 /// control or a camera looking along the axis.
-ga::Mot simulate_drag(const Session& s, const render::OrbitCamera& camera, int width, int height, const GizmoSpec& g);
+ga::Mot simulate_drag(const Session& s, const render::OrbitCamera& camera, int width, int height,
+                      const GizmoSpec& g);
 
 /// "q", "checker", "normals", "plain", "rho" → ColorMode.
 render::ColorMode parse_color(const std::string& name);

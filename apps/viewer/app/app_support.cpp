@@ -47,7 +47,8 @@ GizmoSpec parse_gizmo(const std::string& s) {
   return g;
 }
 
-std::vector<double> parse_numbers(const std::string& text, const char* option, std::size_t count, bool at_least) {
+std::vector<double> parse_numbers(const std::string& text, const char* option, std::size_t count,
+                                  bool at_least) {
   std::vector<double> out;
   for (const std::string& item : split(text)) {
     double v = 0;
@@ -64,9 +65,11 @@ std::vector<double> parse_numbers(const std::string& text, const char* option, s
 ga::Mot simulate_drag(const Session& s, const render::OrbitCamera& cam, int w, int h, const GizmoSpec& g) {
   const auto centre = s.posed_anchor(g.control);
   if (!centre) throw Error("--gizmo: '" + g.control + "' is not a control of " + s.scene().name());
-  const auto m = simulated_drag(cam, w, h, g.mode, g.axis, *centre, 0.25 * cam.scene_radius, s.motor(g.control), g.amount);
+  const auto m = simulated_drag(cam, w, h, g.mode, g.axis, *centre, 0.25 * cam.scene_radius,
+                                s.motor(g.control), g.amount);
   if (!m)
-    throw Error("--gizmo: the camera looks along the " + std::string(1, char('x' + g.axis)) + " axis; pick another");
+    throw Error("--gizmo: the camera looks along the " + std::string(1, char('x' + g.axis)) +
+                " axis; pick another");
   return *m;
 }
 

@@ -52,13 +52,16 @@ std::vector<int> select_region(const Args& a, Session& s, const render::OrbitCam
 
 /// --paint X,Y,RADIUS,AMOUNT...: brush dabs at pixels of `cam` (radius a fraction of the scene
 /// radius), then the spin transformation of the painted ρ (the paint worker, waited for).
-PaintOutcome paint(const Args& a, Session& s, const render::OrbitCamera& cam, int w, int h, Eigen::VectorXd& rho) {
+PaintOutcome paint(const Args& a, Session& s, const render::OrbitCamera& cam, int w, int h,
+                   Eigen::VectorXd& rho) {
   const Eigen::MatrixXd V = s.posed();
   rho = Eigen::VectorXd::Zero(s.rest().F.rows());
   for (const std::string& spec : a.paints) {
     const auto p = parse_numbers(spec, "--paint", 4);
     const auto hit = pick(cam.pixel_ray(p[0], p[1], w, h), V, s.rest().F);
-    if (!hit) throw Error("--paint: pixel " + spec.substr(0, spec.find(',', spec.find(',') + 1)) + " misses the mesh");
+    if (!hit)
+      throw Error("--paint: pixel " + spec.substr(0, spec.find(',', spec.find(',') + 1)) +
+                  " misses the mesh");
     const int touched = paint_rho(V, s.rest().F, hit->point, p[2] * cam.scene_radius, p[3], rho);
     std::printf("paint: dab at face %lld, %d faces\n", (long long)hit->face, touched);
   }
@@ -66,7 +69,8 @@ PaintOutcome paint(const Args& a, Session& s, const render::OrbitCamera& cam, in
   worker.request(rho);
   worker.wait_idle(600);
   auto r = worker.take();
-  if (!r || !r->error.empty()) throw Error("paint: spin transformation failed: " + (r ? r->error : std::string("no result")));
+  if (!r || !r->error.empty())
+    throw Error("paint: spin transformation failed: " + (r ? r->error : std::string("no result")));
   return std::move(*r);
 }
 
@@ -91,7 +95,8 @@ int run_headless(const Args& a) {
   if (!a.deformer.empty()) {
     const DeformerPreset p = deformer_preset(a.deformer, s.scene());
     s.set_deformer(p.deformer, p.ik);
-    std::printf("deformer %s: %zu controls, bind %.1f ms\n", a.deformer.c_str(), s.controls().size(), s.bind_ms());
+    std::printf("deformer %s: %zu controls, bind %.1f ms\n", a.deformer.c_str(), s.controls().size(),
+                s.bind_ms());
   }
   // The camera framing the rest mesh: what a user sees when the viewer opens. Selections, picks and
   // gizmo drags happen in its pixels; the picture frames what is shown.
@@ -124,16 +129,21 @@ int run_headless(const Args& a) {
     auto r = worker.take();
     if (!r || !r->error.empty()) throw Error("snap failed: " + (r ? r->error : std::string("no result")));
     if (r->pinned)
-      std::printf("cleanup (handles pinned): Q_mean %.4f -> %.4f, volume %.4f of rest (bind %.0f ms, cleanup %.0f ms)\n",
-                  q_edit, r->q_mean, r->volume_ratio, r->bind_ms, r->snap_ms);
+      std::printf(
+          "cleanup (handles pinned): Q_mean %.4f -> %.4f, volume %.4f of rest (bind %.0f ms, cleanup %.0f "
+          "ms)\n",
+          q_edit, r->q_mean, r->volume_ratio, r->bind_ms, r->snap_ms);
     else
-      std::printf("snap: Q_mean %.4f -> %.4f (bind %.0f ms, snap %.0f ms)\n", q_edit, r->q_mean, r->bind_ms, r->snap_ms);
+      std::printf("snap: Q_mean %.4f -> %.4f (bind %.0f ms, snap %.0f ms)\n", q_edit, r->q_mean, r->bind_ms,
+                  r->snap_ms);
     V = r->V;
   } else if (!a.paints.empty()) {
     const PaintOutcome r = paint(a, s, cam, o.width, o.height, rho);
     const double moved = std::sqrt((r.V - s.rest().V).rowwise().squaredNorm().maxCoeff()) / cam.scene_radius;
-    std::printf("paint: spin transformation Q_mean %.4f, max displacement %.4f of the scene radius (bind %.0f ms, solve %.0f ms)\n",
-                r.q_mean, moved, r.bind_ms, r.solve_ms);
+    std::printf(
+        "paint: spin transformation Q_mean %.4f, max displacement %.4f of the scene radius (bind %.0f ms, "
+        "solve %.0f ms)\n",
+        r.q_mean, moved, r.bind_ms, r.solve_ms);
     V = r.V;
   } else {
     std::printf("Q_mean %.4f\n", q_edit);
@@ -205,7 +215,8 @@ int run_headless(const Args& a) {
     }
     renderer.draw(shot, o.width, o.height, o.style);
     render::Image im = fb.read();
-    if (o.style.color == render::ColorMode::Q && o.color_bar) render::draw_color_bar(im, o.style.q_min, o.style.q_max);
+    if (o.style.color == render::ColorMode::Q && o.color_bar)
+      render::draw_color_bar(im, o.style.q_min, o.style.q_max);
     render::write_png(a.screenshot, im);
     std::printf("wrote %s (%dx%d, %s)\n", a.screenshot.c_str(), o.width, o.height, backend.c_str());
   }

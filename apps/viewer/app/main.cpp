@@ -42,20 +42,25 @@ int main(int argc, char** argv) {
   app.add_option("--q-range", a.q_range, "LO,HI: Q colour range")->capture_default_str();
   app.add_flag("--flat", a.flat, "Flat shading");
   app.add_flag("--wireframe", a.wireframe, "Draw edges");
-  app.add_option("--gizmo", a.gizmos, "Headless: NAME,translate|rotate,x|y|z,AMOUNT: drag a control's gizmo (handle, lattice point, ik.target...)")
+  app.add_option("--gizmo", a.gizmos,
+                 "Headless: NAME,translate|rotate,x|y|z,AMOUNT: drag a control's gizmo (handle, lattice "
+                 "point, ik.target...)")
       ->take_all();
   app.add_option("--deformer", a.deformer, "Switch to this deformer (the panel's preset)")
       ->check(CLI::IsMember(spinmotor::viewer::deformer_choices()));
-  app.add_option("--select-box", a.select_box, "Headless: X0,Y0,X1,Y1: select the visible vertices in this pixel box");
-  app.add_option("--select-lasso", a.select_lasso, "Headless: X,Y,X,Y,X,Y...: select the visible vertices in this lasso");
+  app.add_option("--select-box", a.select_box,
+                 "Headless: X0,Y0,X1,Y1: select the visible vertices in this pixel box");
+  app.add_option("--select-lasso", a.select_lasso,
+                 "Headless: X,Y,X,Y,X,Y...: select the visible vertices in this lasso");
   app.add_option("--add-handle", a.add_handle, "Headless: make a handle of the selection, with this name");
   app.add_option("--paint", a.paints,
                  "Headless: X,Y,RADIUS,AMOUNT: paint rho at a pixel (radius: fraction of the scene radius); "
                  "repeatable; then show the spin transformation")
       ->take_all();
   app.add_flag("--snap", a.snap, "Headless: show the conformal snap of the posed mesh");
-  app.add_flag("--keep-pose", a.keep_pose,
-               "With --snap: the pose-keeping cleanup instead (every handle pinned where the deformer put it)");
+  app.add_flag(
+      "--keep-pose", a.keep_pose,
+      "With --snap: the pose-keeping cleanup instead (every handle pinned where the deformer put it)");
   app.add_option("--tradeoff", a.tradeoff, "Snap tradeoff in [0, 1]")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
@@ -71,11 +76,13 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   try {
-    if (a.doc.empty()) throw spinmotor::Error("a scene or mesh file is required (spinmotor-viewer SCENE.json | MESH)");
+    if (a.doc.empty())
+      throw spinmotor::Error("a scene or mesh file is required (spinmotor-viewer SCENE.json | MESH)");
     if (!a.screenshot.empty()) return spinmotor::viewer::app::run_headless(a);
     if (a.snap || !a.gizmos.empty() || a.frames > 0 || !a.paints.empty() || !a.select_box.empty() ||
         !a.select_lasso.empty() || !a.add_handle.empty())
-      throw spinmotor::Error("--gizmo, --snap, --paint, --select-*, --add-handle and --frames need --screenshot");
+      throw spinmotor::Error(
+          "--gizmo, --snap, --paint, --select-*, --add-handle and --frames need --screenshot");
     return spinmotor::viewer::app::run_window(a);
   } catch (const spinmotor::Error& e) {
     std::cerr << "spinmotor-viewer: error: " << e.what() << "\n";

@@ -56,7 +56,7 @@ struct Viewer {
   GizmoMode gizmo_mode = GizmoMode::Rotate;
   std::optional<GizmoDrag> drag;
   std::vector<std::optional<Eigen::Vector3d>> anchors;  ///< rest anchors, per control (cached per bind)
-  std::vector<std::pair<int, int>> lattice;            ///< FFD lattice lines between controls
+  std::vector<std::pair<int, int>> lattice;             ///< FFD lattice lines between controls
 
   // Snap to spin.
   double tradeoff = 1.0;
@@ -101,7 +101,8 @@ struct Viewer {
     lattice = ffd_lattice_edges(c);
     control = std::clamp(control, 0, std::max(0, int(c.size()) - 1));
     edit_block = session.deformer_block();
-    std::snprintf(block_text, sizeof block_text, "%s", edit_block.is_null() ? "" : edit_block.dump(2).c_str());
+    std::snprintf(block_text, sizeof block_text, "%s",
+                  edit_block.is_null() ? "" : edit_block.dump(2).c_str());
     const auto& choices = deformer_choices();
     std::string current = session.scene().deformer_type;
     if (current == "spline" && !session.ik_block().is_null()) current = "spline-ik";
@@ -181,7 +182,8 @@ void continue_gesture(Viewer& v, const ImVec2& mouse, const render::Ray& ray) {
     return;
   }
   if (v.tool == Tool::Box) return;
-  if (ImGui::GetIO().MouseDelta.x == 0 && ImGui::GetIO().MouseDelta.y == 0 && !ImGui::IsMouseClicked(0)) return;
+  if (ImGui::GetIO().MouseDelta.x == 0 && ImGui::GetIO().MouseDelta.y == 0 && !ImGui::IsMouseClicked(0))
+    return;
   const Eigen::MatrixXd& V = v.shown_positions();
   const auto hit = pick(ray, V, v.session.rest().F);
   if (!hit) return;
@@ -205,7 +207,8 @@ void end_gesture(Viewer& v, const ImVec2& mouse, int w, int h) {
   else if (v.tool == Tool::Lasso)
     region = vertices_in_lasso(V, v.cam, w, h, v.lasso, depth);
   if (v.tool == Tool::Box || v.tool == Tool::Lasso)
-    v.selection = v.subtract ? selection_difference(v.selection, region) : selection_union(v.selection, region);
+    v.selection =
+        v.subtract ? selection_difference(v.selection, region) : selection_union(v.selection, region);
   if (v.tool == Tool::Paint && v.auto_apply) v.request_paint();
   v.lasso.clear();
   v.depth.reset();
@@ -219,7 +222,8 @@ void draw_and_handle_input(Viewer& v, int w, int h) {
   const ImVec2 mouse = io.MousePos;
   const render::Ray ray = v.cam.pixel_ray(mouse.x, mouse.y, w, h);
   auto to_screen = [&](const Eigen::Vector3d& p) { return to_imvec(v.cam.project(p, w, h)); };
-  const ImU32 colours[3] = {IM_COL32(220, 50, 50, 255), IM_COL32(50, 180, 50, 255), IM_COL32(60, 90, 230, 255)};
+  const ImU32 colours[3] = {IM_COL32(220, 50, 50, 255), IM_COL32(50, 180, 50, 255),
+                            IM_COL32(60, 90, 230, 255)};
 
   // Selection in progress and made.
   if (!v.selection.empty()) {
@@ -280,7 +284,8 @@ void draw_and_handle_input(Viewer& v, int w, int h) {
       for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
         const ImVec2 p = pts[i], q = pts[i + 1];
         const float dx = q.x - p.x, dy = q.y - p.y, len2 = dx * dx + dy * dy;
-        const float t = len2 > 0 ? std::clamp(((mouse.x - p.x) * dx + (mouse.y - p.y) * dy) / len2, 0.0f, 1.0f) : 0;
+        const float t =
+            len2 > 0 ? std::clamp(((mouse.x - p.x) * dx + (mouse.y - p.y) * dy) / len2, 0.0f, 1.0f) : 0;
         const double d = std::hypot(mouse.x - (p.x + t * dx), mouse.y - (p.y + t * dy));
         if (d < best) best = d, hover_axis = k;
       }
@@ -338,7 +343,8 @@ void display_panel(Viewer& v) {
   if (!ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) return;
   int mode = int(v.style.color);
   const char* modes[] = {"normals", "checker", "Q (quasi-conformal error)", "plain", "painted rho"};
-  if (ImGui::Combo("colour", &mode, modes, 5)) v.style.color = render::ColorMode(mode), v.geometry_dirty = true;
+  if (ImGui::Combo("colour", &mode, modes, 5))
+    v.style.color = render::ColorMode(mode), v.geometry_dirty = true;
   ImGui::Checkbox("smooth", &v.style.smooth);
   ImGui::SameLine();
   ImGui::Checkbox("wireframe", &v.style.wireframe);
@@ -350,7 +356,8 @@ void display_panel(Viewer& v) {
     v.style.q_max = std::max(qr[1], qr[0] + 0.01f);
   }
   float sr = float(v.style.signed_range);
-  if (ImGui::SliderFloat("rho range", &sr, 0.1f, 50.0f, "%.1f", ImGuiSliderFlags_Logarithmic)) v.style.signed_range = sr;
+  if (ImGui::SliderFloat("rho range", &sr, 0.1f, 50.0f, "%.1f", ImGuiSliderFlags_Logarithmic))
+    v.style.signed_range = sr;
   if (v.style.color == render::ColorMode::Q) {  // colour bar
     ImDrawList* dl = ImGui::GetWindowDrawList();
     const ImVec2 p = ImGui::GetCursorScreenPos();
@@ -472,7 +479,8 @@ void deformer_panel(Viewer& v) {
       }
       case DeformerOption::Kind::Number: {
         double x = b.contains(o.key) ? b[o.key].get<double>() : std::max(o.minimum, 0.0);
-        if (ImGui::InputDouble(o.key.c_str(), &x, 0, 0, "%.6g")) b[o.key] = std::clamp(x, o.minimum, o.maximum);
+        if (ImGui::InputDouble(o.key.c_str(), &x, 0, 0, "%.6g"))
+          b[o.key] = std::clamp(x, o.minimum, o.maximum);
         break;
       }
       case DeformerOption::Kind::Boolean: {
@@ -494,13 +502,15 @@ void deformer_panel(Viewer& v) {
   }
   if (ImGui::Button("apply options")) {
     const nlohmann::json block = b;
-    v.rebind([&] { v.session.set_deformer(block, v.session.ik_block()); }, "rebound " + block.value("type", ""));
+    v.rebind([&] { v.session.set_deformer(block, v.session.ik_block()); },
+             "rebound " + block.value("type", ""));
   }
   if (ImGui::TreeNode("deformer block as JSON (every key of docs/scene.md)")) {
     ImGui::InputTextMultiline("##block", v.block_text, sizeof v.block_text, ImVec2(-1, 160));
     if (ImGui::Button("apply JSON")) {
       const std::string text = v.block_text;
-      v.rebind([&] { v.session.set_deformer(nlohmann::json::parse(text), v.session.ik_block()); }, "rebound from JSON");
+      v.rebind([&] { v.session.set_deformer(nlohmann::json::parse(text), v.session.ik_block()); },
+               "rebound from JSON");
     }
     ImGui::TreePop();
   }
@@ -552,7 +562,8 @@ void snap_panel(Viewer& v) {
   if (v.snapper && v.snapper->busy())
     ImGui::Text("snapping...");
   else if (v.snapped && v.snapped->error.empty())
-    ImGui::Text(v.snapped->pinned ? "Q_mean cleaned %.4f (%.0f ms, volume %.3f of rest)" : "Q_mean snap %.4f (%.0f ms)",
+    ImGui::Text(v.snapped->pinned ? "Q_mean cleaned %.4f (%.0f ms, volume %.3f of rest)"
+                                  : "Q_mean snap %.4f (%.0f ms)",
                 v.snapped->q_mean, v.snapped->snap_ms, v.snapped->volume_ratio);
   else if (v.snapped)
     ImGui::TextWrapped("snap failed: %s", v.snapped->error.c_str());
@@ -627,8 +638,8 @@ void panel(Viewer& v, int w, int h) {
   ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(380, 0), ImGuiCond_FirstUseEver);
   ImGui::Begin("spinmotor");
-  ImGui::Text("%s: %lld vertices, %lld faces", v.session.scene().name().c_str(), (long long)v.session.rest().V.rows(),
-              (long long)v.session.rest().F.rows());
+  ImGui::Text("%s: %lld vertices, %lld faces", v.session.scene().name().c_str(),
+              (long long)v.session.rest().V.rows(), (long long)v.session.rest().F.rows());
   ImGui::Text("frame %.1f ms", v.frame_ms);
   display_panel(v);
   deformer_panel(v);
@@ -648,7 +659,8 @@ render::Image read_window(int fw, int fh) {
   render::gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
   render::gl.ReadPixels(0, 0, fw, fh, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
   for (int y = 0; y < fh; ++y)
-    std::copy_n(&rows[std::size_t(fh - 1 - y) * fw * 4], std::size_t(fw) * 4, &im.rgba[std::size_t(y) * fw * 4]);
+    std::copy_n(&rows[std::size_t(fh - 1 - y) * fw * 4], std::size_t(fw) * 4,
+                &im.rgba[std::size_t(y) * fw * 4]);
   return im;
 }
 
@@ -692,7 +704,8 @@ int run_window(const Args& a) {
           "deformer " + a.deformer);
     v.on_rebind();
     const std::string stem = v.session.scene().file.stem().string();
-    std::snprintf(v.save_path, sizeof v.save_path, "%s", (v.session.scene().dir / (stem + "-edited.json")).c_str());
+    std::snprintf(v.save_path, sizeof v.save_path, "%s",
+                  (v.session.scene().dir / (stem + "-edited.json")).c_str());
     std::snprintf(v.open_path, sizeof v.open_path, "%s", v.save_path);
     std::snprintf(v.export_path, sizeof v.export_path, "%s", (stem + "-posed.obj").c_str());
     for (int frame = 1; !glfwWindowShouldClose(window); ++frame) {
@@ -712,8 +725,10 @@ int run_window(const Args& a) {
       if (!io.WantCaptureKeyboard) {
         if (ImGui::IsKeyPressed(GLFW_KEY_R))
           v.gizmo_mode = v.gizmo_mode == GizmoMode::Rotate ? GizmoMode::Translate : GizmoMode::Rotate;
-        if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Z) && v.session.undo()) v.geometry_dirty = true, v.request_snap();
-        if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Y) && v.session.redo()) v.geometry_dirty = true, v.request_snap();
+        if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Z) && v.session.undo())
+          v.geometry_dirty = true, v.request_snap();
+        if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Y) && v.session.redo())
+          v.geometry_dirty = true, v.request_snap();
       }
       if (auto r = v.snapper->take()) {
         v.snapped = std::move(*r);

@@ -13,20 +13,24 @@ json point(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
 
 void need_two_handles(const scene::Scene& s, const std::string& choice) {
   if (s.handles.size() < 2)
-    throw Error("viewer: the " + choice + " deformer runs from one handle to another: make two handles first (" +
+    throw Error("viewer: the " + choice +
+                " deformer runs from one handle to another: make two handles first (" +
                 std::to_string(s.handles.size()) + " now)");
 }
 }  // namespace
 
 const std::vector<std::string>& deformer_choices() {
-  static const std::vector<std::string> c = {"surface-harmonic", "spline", "spline-ik", "ffd", "cage", "arap", "skin"};
+  static const std::vector<std::string> c = {
+      "surface-harmonic", "spline", "spline-ik", "ffd", "cage", "arap", "skin"};
   return c;
 }
 
 DeformerPreset deformer_preset(const std::string& choice, const scene::Scene& s) {
   const bool same = !s.deformer.is_null() && s.deformer_type == choice;
   if (choice == "surface-harmonic")
-    return {same ? s.deformer : json{{"type", "surface-harmonic"}, {"weights", "mean-value"}, {"blend", "log"}}, nullptr};
+    return {
+        same ? s.deformer : json{{"type", "surface-harmonic"}, {"weights", "mean-value"}, {"blend", "log"}},
+        nullptr};
   if (choice == "spline") {
     if (s.deformer_type == "spline" && s.deformer.contains("keys")) return {s.deformer, nullptr};
     need_two_handles(s, choice);
@@ -41,32 +45,41 @@ DeformerPreset deformer_preset(const std::string& choice, const scene::Scene& s)
   if (choice == "spline-ik") {
     if (s.deformer_type == "spline" && s.doc.contains("ik")) return {s.deformer, s.doc["ik"]};
     need_two_handles(s, choice);
-    const Eigen::Vector3d a = handle_centroid(s.mesh.V, s.handles[0]), b = handle_centroid(s.mesh.V, s.handles[1]);
+    const Eigen::Vector3d a = handle_centroid(s.mesh.V, s.handles[0]),
+                          b = handle_centroid(s.mesh.V, s.handles[1]);
     json chain = json::array();
     for (int i = 0; i < 5; ++i) chain.push_back(point(a + (b - a) * (i / 4.0)));
-    return {{{"type", "spline"}, {"from", s.handles[0].name}, {"to", s.handles[1].name}, {"basis", "bspline"}},
-            {{"chain", chain}, {"target", point(b)}}};
+    return {
+        {{"type", "spline"}, {"from", s.handles[0].name}, {"to", s.handles[1].name}, {"basis", "bspline"}},
+        {{"chain", chain}, {"target", point(b)}}};
   }
   if (choice == "ffd")
-    return {same ? s.deformer : json{{"type", "ffd"}, {"lattice", {3, 3, 3}}, {"basis", "bezier"}, {"mode", "motor"}},
+    return {same ? s.deformer
+                 : json{{"type", "ffd"}, {"lattice", {3, 3, 3}}, {"basis", "bezier"}, {"mode", "motor"}},
             nullptr};
   if (choice == "cage") {
     if (same) return {s.deformer, nullptr};
-    return {{{"type", "cage"}, {"cage", {{"box", {{"margin", 0.05}}}}}, {"coordinates", "mean-value"}}, nullptr};
+    return {{{"type", "cage"}, {"cage", {{"box", {{"margin", 0.05}}}}}, {"coordinates", "mean-value"}},
+            nullptr};
   }
   if (choice == "arap")
     return {same ? s.deformer
-                 : json{{"type", "arap"}, {"energy", "spokes-and-rims"}, {"iterations", 20}, {"initial", "previous"}},
+                 : json{{"type", "arap"},
+                        {"energy", "spokes-and-rims"},
+                        {"iterations", 20},
+                        {"initial", "previous"}},
             nullptr};
   if (choice == "skin") {
     if (!s.doc.contains("skeleton"))
-      throw Error("viewer: the skin deformer needs a `skeleton` in the scene (docs/scene.md); this scene has none");
+      throw Error(
+          "viewer: the skin deformer needs a `skeleton` in the scene (docs/scene.md); this scene has none");
     return {same ? s.deformer : json{{"type", "skin"}, {"weights", "harmonic"}, {"blend", "dlb"}}, nullptr};
   }
   throw Error("viewer: no deformer choice '" + choice + "'");
 }
 
-std::vector<DeformerOption> deformer_options(const std::string& type, const std::vector<std::string>& handle_names) {
+std::vector<DeformerOption> deformer_options(const std::string& type,
+                                             const std::vector<std::string>& handle_names) {
   const json& defs = scene::scene_schema()["definitions"];
   std::string def = "deformer_" + type;
   std::replace(def.begin(), def.end(), '-', '_');

@@ -1,8 +1,8 @@
 #include "spinmotor/viewer/lattice_edges.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
-#include <algorithm>
 #include <map>
 
 namespace spinmotor::viewer {

@@ -27,8 +27,8 @@ struct Projector {
 };
 
 template <class Inside>
-std::vector<int> select(const Eigen::MatrixXd& V, const render::OrbitCamera& cam, int w, int h, const DepthMap* depth,
-                        Inside inside) {
+std::vector<int> select(const Eigen::MatrixXd& V, const render::OrbitCamera& cam, int w, int h,
+                        const DepthMap* depth, Inside inside) {
   if (w <= 0 || h <= 0) throw Error("selection: the view size must be positive");
   const Projector project(cam, w, h);
   const double tolerance = 2e-3 * cam.distance;

@@ -4,14 +4,13 @@
 #include <algorithm>
 #include <chrono>
 
-#include "spinmotor/core/error.hpp"
 #include "spinmotor/core/atomic_file.hpp"
-#include "spinmotor/mesh/io.hpp"
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/core/stopwatch.hpp"
+#include "spinmotor/mesh/io.hpp"
 
 namespace spinmotor::viewer {
-namespace {
-}  // namespace
+namespace {}  // namespace
 
 nlohmann::json motor_to_json(const ga::Mot& m) {
   const Eigen::Isometry3d iso = ga::to_isometry(m);

@@ -3,10 +3,10 @@
 #include <chrono>
 #include <memory>
 
+#include "spinmotor/core/stopwatch.hpp"
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
 #include "spinmotor/spin/pinned_cleanup.hpp"
-#include "spinmotor/core/stopwatch.hpp"
 
 namespace spinmotor::viewer {
 

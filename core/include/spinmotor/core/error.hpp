@@ -10,7 +10,7 @@
 namespace spinmotor {
 
 class Error : public std::runtime_error {
-public:
+ public:
   enum class Kind {
     BadInput,   ///< malformed file, invalid mesh, bad parameter: CLI exit code 2
     Numerical,  ///< factorization or iteration failed on valid input: CLI exit code 3
@@ -24,7 +24,7 @@ public:
   /// The exit code the command-line tool uses for this error.
   int exit_code() const noexcept { return kind_ == Kind::BadInput ? 2 : 3; }
 
-private:
+ private:
   Kind kind_;
 };
 

@@ -55,8 +55,8 @@ template <class E>
     if (n == name) return v;
     all += (all.empty() ? "" : ", ") + std::string(n);
   }
-  throw Error(std::string(where) + "unknown " + std::string(t.option) + " '" + std::string(name) + "' (one of: " + all +
-              ")");
+  throw Error(std::string(where) + "unknown " + std::string(t.option) + " '" + std::string(name) +
+              "' (one of: " + all + ")");
 }
 
 }  // namespace spinmotor

@@ -24,6 +24,8 @@ inline constexpr std::int64_t kRotationFit = 4096;
 inline constexpr std::int64_t kCageSum = 256;
 
 /// True when a loop over `items` items of the given class should run in parallel.
-[[nodiscard]] constexpr bool worth(std::int64_t items, std::int64_t min_items) noexcept { return items >= min_items; }
+[[nodiscard]] constexpr bool worth(std::int64_t items, std::int64_t min_items) noexcept {
+  return items >= min_items;
+}
 
 }  // namespace spinmotor::parallel

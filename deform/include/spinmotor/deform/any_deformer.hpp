@@ -21,11 +21,11 @@
 namespace spinmotor {
 
 class AnyDeformer {
-public:
+ public:
   AnyDeformer() = default;
   template <Deformer D>
-    requires(!std::is_same_v<std::remove_cvref_t<D>, AnyDeformer>)
-  AnyDeformer(D deformer)  // NOLINT(google-explicit-constructor): a bound deformer *is* an AnyDeformer
+  requires(!std::is_same_v<std::remove_cvref_t<D>, AnyDeformer>)
+      AnyDeformer(D deformer)  // NOLINT(google-explicit-constructor): a bound deformer *is* an AnyDeformer
       : self_(std::make_unique<Model<D>>(std::move(deformer))) {}
 
   [[nodiscard]] const std::vector<Control>& controls() const { return self().controls(); }
@@ -46,7 +46,7 @@ public:
 
   [[nodiscard]] explicit operator bool() const noexcept { return self_ != nullptr; }
 
-private:
+ private:
   struct Concept {
     virtual ~Concept() = default;
     virtual const std::vector<Control>& controls() const = 0;

@@ -68,20 +68,22 @@ enum class ArapInitial { Rest, Harmonic, Previous };
 inline constexpr OptionNames<ArapEnergy, 2> kArapEnergyNames{
     "energy", {{{ArapEnergy::Spokes, "spokes"}, {ArapEnergy::SpokesAndRims, "spokes-and-rims"}}}};
 constexpr const auto& option_names(ArapEnergy) { return kArapEnergyNames; }
-inline constexpr OptionNames<ArapInitial, 3> kArapInitialNames{
-    "initial", {{{ArapInitial::Rest, "rest"}, {ArapInitial::Harmonic, "harmonic"}, {ArapInitial::Previous, "previous"}}}};
+inline constexpr OptionNames<ArapInitial, 3> kArapInitialNames{"initial",
+                                                               {{{ArapInitial::Rest, "rest"},
+                                                                 {ArapInitial::Harmonic, "harmonic"},
+                                                                 {ArapInitial::Previous, "previous"}}}};
 constexpr const auto& option_names(ArapInitial) { return kArapInitialNames; }
 
 /// What the last pose() did.
 struct ArapReport {
-  std::vector<double> energy;      ///< E(X'_0) (initial guess), E(X'_1), …: one per local step
-  int iterations = 0;              ///< global steps taken
-  bool converged = false;          ///< stopped by the tolerance (or a zero energy), not by `iterations`
-  double local_ms = 0.0;           ///< local steps (covariances, rotors, energies), all iterations
-  double global_ms = 0.0;          ///< right-hand sides and solves, all iterations
-  double rhs_ms = 0.0;             ///< of which the right-hand sides (eq. 12)
-  double solve_ms = 0.0;           ///< of which the solves (CHOLMOD, 3 columns)
-  double initial_ms = 0.0;         ///< placing the handles and the initial guess
+  std::vector<double> energy;         ///< E(X'_0) (initial guess), E(X'_1), …: one per local step
+  int iterations = 0;                 ///< global steps taken
+  bool converged = false;             ///< stopped by the tolerance (or a zero energy), not by `iterations`
+  double local_ms = 0.0;              ///< local steps (covariances, rotors, energies), all iterations
+  double global_ms = 0.0;             ///< right-hand sides and solves, all iterations
+  double rhs_ms = 0.0;                ///< of which the right-hand sides (eq. 12)
+  double solve_ms = 0.0;              ///< of which the solves (CHOLMOD, 3 columns)
+  double initial_ms = 0.0;            ///< placing the handles and the initial guess
   Eigen::Index jacobi_rotations = 0;  ///< local solves that took the Jacobi fallback (all iterations)
 };
 
@@ -97,14 +99,14 @@ struct ArapBindReport {
 };
 
 class ArapDeformer {
-public:
+ public:
   using RowMatrix3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
   struct Options {
     ArapEnergy energy = ArapEnergy::SpokesAndRims;
     bool clamp_negative_weights = false;
-    int iterations = 100;      ///< at most this many global steps per pose (≥ 0)
-    double tolerance = 1e-6;   ///< relative energy change that stops the iteration (≥ 0)
+    int iterations = 100;     ///< at most this many global steps per pose (≥ 0)
+    double tolerance = 1e-6;  ///< relative energy change that stops the iteration (≥ 0)
     ArapInitial initial = ArapInitial::Rest;
     /// Factorization of L_FF (CHOLMOD). Auto: simplicial LDLᵀ up to kSupernodalFrom free vertices
     /// (its three-column solves are faster, which pays off after a few iterations), supernodal LLᵀ
@@ -162,7 +164,7 @@ public:
   /// The free vertex of each row of the factorized block L_FF (for messages of the factorization).
   const Eigen::VectorXi& free_order() const { return free_order_; }
 
-private:
+ private:
   // bind phases (arap.cpp)
   void build_one_ring();
   int slot(int i, int j) const;
@@ -200,10 +202,10 @@ private:
   std::vector<std::string> handle_names_;
   std::vector<Control> controls_;
   Eigen::VectorXi constrained_, constrained_handle_;  // handle of each constrained vertex (−1: unreferenced)
-  std::vector<int> free_pos_;                 // row of each free vertex in L_FF, −1 − index if constrained
-  Eigen::VectorXi free_order_;                // the free vertex of each row of L_FF
-  Eigen::SparseMatrix<double> A_FC_;          // L_FC (free rows in free_order_, constrained columns)
-  CholeskySolver chol_;                       // factor of L_FF
+  std::vector<int> free_pos_;         // row of each free vertex in L_FF, −1 − index if constrained
+  Eigen::VectorXi free_order_;        // the free vertex of each row of L_FF
+  Eigen::SparseMatrix<double> A_FC_;  // L_FC (free rows in free_order_, constrained columns)
+  CholeskySolver chol_;               // factor of L_FF
   MotorBlendField harmonic_;
   bool has_harmonic_ = false;
 

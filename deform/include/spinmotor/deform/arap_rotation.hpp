@@ -39,8 +39,8 @@ namespace spinmotor {
 /// Horn's matrix N(S) (§VII): inputs S (3×3, S = Σ w v v'ᵀ). Output: symmetric 4×4 N with
 /// qᵀ N q = tr(R(q) S) for every unit quaternion q = (w, x, y, z) (the order of ga::Rot).
 inline Eigen::Matrix4d horn_matrix(const Eigen::Matrix3d& S) {
-  const double xx = S(0, 0), xy = S(0, 1), xz = S(0, 2), yx = S(1, 0), yy = S(1, 1), yz = S(1, 2), zx = S(2, 0),
-               zy = S(2, 1), zz = S(2, 2);
+  const double xx = S(0, 0), xy = S(0, 1), xz = S(0, 2), yx = S(1, 0), yy = S(1, 1), yz = S(1, 2),
+               zx = S(2, 0), zy = S(2, 1), zz = S(2, 2);
   Eigen::Matrix4d N;
   N << xx + yy + zz, yz - zy, zx - xz, xy - yx,  //
       yz - zy, xx - yy - zz, xy + yx, zx + xz,   //
@@ -53,8 +53,8 @@ inline Eigen::Matrix4d horn_matrix(const Eigen::Matrix3d& S) {
 inline Eigen::Matrix3d rotation_matrix(const ga::Rot& q) {
   const double w = q.w(), x = q.x(), y = q.y(), z = q.z();
   const double tx = 2 * x, ty = 2 * y, tz = 2 * z;
-  const double twx = tx * w, twy = ty * w, twz = tz * w, txx = tx * x, txy = ty * x, txz = tz * x, tyy = ty * y,
-               tyz = tz * y, tzz = tz * z;
+  const double twx = tx * w, twy = ty * w, twz = tz * w, txx = tx * x, txy = ty * x, txz = tz * x,
+               tyy = ty * y, tyz = tz * y, tzz = tz * z;
   Eigen::Matrix3d R;
   R << 1 - (tyy + tzz), txy - twz, txz + twy,  //
       txy + twz, 1 - (txx + tzz), tyz - twx,   //
@@ -64,10 +64,10 @@ inline Eigen::Matrix3d rotation_matrix(const ga::Rot& q) {
 
 /// What best_rotation did (for tests and benchmarks).
 struct RotationInfo {
-  bool fast = false;     ///< the warm-started Newton path answered (else the Jacobi fallback)
-  bool unique = true;    ///< the top eigenvalue of N is simple (the best rotation is unique)
-  int steps = 0;         ///< Newton steps (fast path) or Jacobi sweeps (fallback)
-  double trace = 0.0;    ///< max tr(R S), the top eigenvalue of N(S)
+  bool fast = false;   ///< the warm-started Newton path answered (else the Jacobi fallback)
+  bool unique = true;  ///< the top eigenvalue of N is simple (the best rotation is unique)
+  int steps = 0;       ///< Newton steps (fast path) or Jacobi sweeps (fallback)
+  double trace = 0.0;  ///< max tr(R S), the top eigenvalue of N(S)
 };
 
 namespace detail {
@@ -152,13 +152,14 @@ inline ga::Rot best_rotation(const Eigen::Matrix3d& S, const ga::Rot& warm = ga:
     out.unique = false;
     return warm;
   }
-  const double wn = std::sqrt(warm.w() * warm.w() + warm.x() * warm.x() + warm.y() * warm.y() + warm.z() * warm.z());
+  const double wn =
+      std::sqrt(warm.w() * warm.w() + warm.x() * warm.x() + warm.y() * warm.y() + warm.z() * warm.z());
   const ga::Rot q0 = wn > 0.0 ? ga::Rot(warm.w() / wn, warm.x() / wn, warm.y() / wn, warm.z() / wn)
                               : ga::Rot(1.0, 0.0, 0.0, 0.0);
   // Work in the warm frame: R = R' R(q0), tr(R S) = tr(R' T) with T = R(q0) S, and R' ≈ I.
   const Eigen::Matrix3d T = rotation_matrix(q0) * S;
-  const double xx = T(0, 0), xy = T(0, 1), xz = T(0, 2), yx = T(1, 0), yy = T(1, 1), yz = T(1, 2), zx = T(2, 0),
-               zy = T(2, 1), zz = T(2, 2);
+  const double xx = T(0, 0), xy = T(0, 1), xz = T(0, 2), yx = T(1, 0), yy = T(1, 1), yz = T(1, 2),
+               zx = T(2, 0), zy = T(2, 1), zz = T(2, 2);
   // N(T) = [a bᵀ; b B] (horn_matrix).
   const double a = xx + yy + zz;
   const double b0 = yz - zy, b1 = zx - xz, b2 = xy - yx;

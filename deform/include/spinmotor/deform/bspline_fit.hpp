@@ -36,7 +36,7 @@ struct BSplineFit {
   std::vector<ga::Mot> controls;    ///< m motors R_j = exp(B_j)
   bool used_svd = false;            ///< true when AᵀA was too ill-conditioned for Cholesky
   double rcond = 0;                 ///< reciprocal condition estimate of the (free part of) AᵀA
-  double residual = 0;              ///< max_i |Σ_j N_j(λ_i) B_j − log Q_i| (Euclidean norm of 6 components)
+  double residual = 0;  ///< max_i |Σ_j N_j(λ_i) B_j − log Q_i| (Euclidean norm of 6 components)
 };
 
 /// Inputs: n ≥ 1 unit key motors, their n parameters λ_i ∈ [0, 1], options. Output: the fit.

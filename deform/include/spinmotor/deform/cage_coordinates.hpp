@@ -40,7 +40,8 @@ double cage_winding_number(const Eigen::MatrixXd& C, const Eigen::MatrixXi& CF, 
 /// Inputs: cage (check_cage), points X (n×3), each inside the cage or on it. Output: n×k mean value
 /// coordinates (rows sum to 1, Σ_j λ_ij C_j = x_i to rounding; a point on the cage gets its linear
 /// barycentric coordinates there). Throws Error "point i is outside the cage" (winding number < ½).
-Eigen::MatrixXd mean_value_coordinates(const Eigen::MatrixXd& C, const Eigen::MatrixXi& CF, const Eigen::MatrixXd& X);
+Eigen::MatrixXd mean_value_coordinates(const Eigen::MatrixXd& C, const Eigen::MatrixXi& CF,
+                                       const Eigen::MatrixXd& X);
 
 /// Inputs: cage (check_cage), points X (n×3) inside the cage or on it, grid cells along the cage's
 /// largest extent (4 ≤ grid ≤ 512). Output: n×k harmonic coordinates (≥ 0, rows sum to 1). Throws

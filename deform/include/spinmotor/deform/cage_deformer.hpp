@@ -24,7 +24,7 @@
 namespace spinmotor {
 
 class CageDeformer {
-public:
+ public:
   enum class Coordinates { Harmonic, MeanValue };
   using Mode = ControlMode;
 
@@ -59,7 +59,7 @@ public:
   double interpolation_bound() const { return bound_; }
   const Options& options() const { return options_; }
 
-private:
+ private:
   Options options_;
   std::vector<Control> controls_;
   Eigen::MatrixXd C_;
@@ -71,7 +71,8 @@ private:
 
 inline constexpr OptionNames<CageDeformer::Coordinates, 2> kCageCoordinatesNames{
     "coordinates",
-    {{{CageDeformer::Coordinates::Harmonic, "harmonic"}, {CageDeformer::Coordinates::MeanValue, "mean-value"}}}};
+    {{{CageDeformer::Coordinates::Harmonic, "harmonic"},
+      {CageDeformer::Coordinates::MeanValue, "mean-value"}}}};
 constexpr const auto& option_names(CageDeformer::Coordinates) { return kCageCoordinatesNames; }
 
 }  // namespace spinmotor

@@ -43,15 +43,15 @@
 #include <string>
 #include <vector>
 
+#include "spinmotor/core/option_names.hpp"
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/mesh.hpp"
-#include "spinmotor/core/option_names.hpp"
 
 namespace spinmotor {
 
 /// A named set of vertices that one motor (or one boundary condition) acts on.
 struct Handle {
-  std::string name;         ///< used in error messages ("handle 'tip'")
+  std::string name;          ///< used in error messages ("handle 'tip'")
   Eigen::VectorXi vertices;  ///< distinct vertex indices in [0, n)
 };
 
@@ -70,8 +70,8 @@ constexpr const auto& option_names(ControlMode) { return kControlModeNames; }
 /// A bone of a skeleton (skin deformer, rigs): a parent, a rest segment and a rest frame.
 struct Bone {
   std::string name;
-  int parent = -1;                       ///< index of the parent bone, −1 for a root
-  Eigen::Vector3d head{0, 0, 0};         ///< rest segment (bone_harmonic_weights, the control anchor)
+  int parent = -1;                ///< index of the parent bone, −1 for a root
+  Eigen::Vector3d head{0, 0, 0};  ///< rest segment (bone_harmonic_weights, the control anchor)
   Eigen::Vector3d tail{0, 0, 1};
   ga::Mot rest{1, 0, 0, 0, 0, 0, 0, 0};  ///< rest frame F_j^0 (unit motor)
 };
@@ -82,10 +82,10 @@ void check_skeleton(std::span<const Bone> bones);
 
 /// A joint chain solved by FABRIK toward a target (spline IK, CGA paper §III.C).
 struct IkChain {
-  Eigen::MatrixXd chain{};             ///< k×3 rest joint positions, k ≥ 2, root first
-  Eigen::Vector3d target{0, 0, 0};     ///< rest target; the control "ik.target" moves it
-  double tolerance = 1e-4;             ///< FABRIK: end-joint distance to the target
-  int iterations = 50;                 ///< FABRIK: at most this many forward + backward passes
+  Eigen::MatrixXd chain{};               ///< k×3 rest joint positions, k ≥ 2, root first
+  Eigen::Vector3d target{0, 0, 0};       ///< rest target; the control "ik.target" moves it
+  double tolerance = 1e-4;               ///< FABRIK: end-joint distance to the target
+  int iterations = 50;                   ///< FABRIK: at most this many forward + backward passes
   std::optional<ga::Rot> orientation{};  ///< optional end-bone orientation relative to rest
 };
 
@@ -112,13 +112,13 @@ struct Control {
 /// The deformer shape (see the top of this header).
 template <class D>
 concept Deformer = std::move_constructible<D> &&
-                   requires(D& d, const D& cd, const Mesh& rest, const Rig& rig, const typename D::Options& options,
-                            std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out) {
-                     { D::bind(rest, rig, options) } -> std::same_as<D>;
-                     { cd.controls() } -> std::same_as<const std::vector<Control>&>;
-                     { cd.vertices() } -> std::convertible_to<Eigen::Index>;
-                     { d.pose(motors, V_out) } -> std::same_as<void>;
-                   };
+    requires(D& d, const D& cd, const Mesh& rest, const Rig& rig, const typename D::Options& options,
+             std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out) {
+  { D::bind(rest, rig, options) } -> std::same_as<D>;
+  { cd.controls() } -> std::same_as<const std::vector<Control>&>;
+  { cd.vertices() } -> std::convertible_to<Eigen::Index>;
+  { d.pose(motors, V_out) } -> std::same_as<void>;
+};
 
 /// Controls named after handles, anchored at their centroids in V.
 std::vector<Control> handle_controls(const Eigen::MatrixXd& V, std::span<const Handle> handles);

@@ -37,6 +37,7 @@ struct FabrikResult {
 /// Inputs: chain (k×3 rest joint positions, k ≥ 2), target, options. Output: the solved chain.
 /// Throws Error for k < 2, a non-finite joint or target, a bone of zero length (naming it), a
 /// tolerance ≤ 0, max_iterations < 1 or a non-unit end rotation.
-FabrikResult fabrik(const Eigen::MatrixXd& chain, const Eigen::Vector3d& target, const FabrikOptions& options);
+FabrikResult fabrik(const Eigen::MatrixXd& chain, const Eigen::Vector3d& target,
+                    const FabrikOptions& options);
 
 }  // namespace spinmotor

@@ -43,7 +43,7 @@
 namespace spinmotor {
 
 class FfdDeformer {
-public:
+ public:
   enum class Basis { Bezier, BSpline };
   using Mode = ControlMode;
 
@@ -67,7 +67,9 @@ public:
   static FfdDeformer bind(const Mesh& rest, const Options& options);
   static FfdDeformer bind(const Eigen::MatrixXd& V_rest, const Options& options);
   /// The deformer shape (deformer.hpp): the lattice is an option, the rig is not read.
-  static FfdDeformer bind(const Mesh& rest, const Rig& /*rig*/, const Options& options) { return bind(rest, options); }
+  static FfdDeformer bind(const Mesh& rest, const Rig& /*rig*/, const Options& options) {
+    return bind(rest, options);
+  }
 
   /// One unit motor per control, in control order (see above). Output: V_out (n×3).
   void pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out);
@@ -78,7 +80,9 @@ public:
   /// One control per lattice point, named "ffd[a,b,c]", anchored at its rest position, in index() order.
   const std::vector<Control>& controls() const { return controls_; }
   const std::array<int, 3>& lattice() const { return dims_; }
-  Eigen::Index index(int a, int b, int c) const { return (static_cast<Eigen::Index>(a) * dims_[1] + b) * dims_[2] + c; }
+  Eigen::Index index(int a, int b, int c) const {
+    return (static_cast<Eigen::Index>(a) * dims_[1] + b) * dims_[2] + c;
+  }
   /// L×3 rest positions of the controls.
   const Eigen::MatrixXd& control_points() const { return C_; }
   const Eigen::AlignedBox3d& box() const { return box_; }
@@ -91,7 +95,7 @@ public:
   ga::Mot vertex_motor(Eigen::Index i, std::span<const ga::Mot> motors) const;
   const Options& options() const { return options_; }
 
-private:
+ private:
   void check_motors(std::span<const ga::Mot> motors);
 
   Options options_;
@@ -99,12 +103,12 @@ private:
   std::array<int, 3> dims_{0, 0, 0};
   std::array<int, 3> order_{0, 0, 0};  // d + 1 per axis
   Eigen::AlignedBox3d box_;
-  Eigen::MatrixXd P_;                   // n×3 rest positions
-  Eigen::MatrixXd C_;                   // L×3 rest control points
+  Eigen::MatrixXd P_;                      // n×3 rest positions
+  Eigen::MatrixXd C_;                      // L×3 rest control points
   std::vector<std::array<int, 3>> start_;  // first non-zero basis index per axis
-  std::vector<double> basis_;           // per vertex: order_[0] + order_[1] + order_[2] values
+  std::vector<double> basis_;              // per vertex: order_[0] + order_[1] + order_[2] values
   std::vector<unsigned char> inside_;
-  std::vector<int> pivot_;              // Linear: heaviest control
+  std::vector<int> pivot_;  // Linear: heaviest control
   Eigen::Index outside_ = 0;
   // per-pose scratch
   std::vector<Eigen::Array<double, 8, 1>> lanes_;  // Log: logs (6 + 2 zero pads); Linear: motors

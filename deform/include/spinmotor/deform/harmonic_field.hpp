@@ -22,9 +22,9 @@
 #include <Eigen/Core>
 #include <span>
 
+#include "spinmotor/core/option_names.hpp"
 #include "spinmotor/deform/deformer.hpp"
 #include "spinmotor/mesh/mesh.hpp"
-#include "spinmotor/core/option_names.hpp"
 
 namespace spinmotor {
 

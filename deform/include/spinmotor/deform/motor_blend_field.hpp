@@ -25,7 +25,7 @@
 namespace spinmotor {
 
 class MotorBlendField {
-public:
+ public:
   /// Row-major so that the k weights of a vertex are contiguous.
   using Weights = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
@@ -56,12 +56,12 @@ public:
   /// The bound points p'_i (n×3): V_rest when the rest motors are identities.
   const Eigen::MatrixXd& bound_positions() const { return P_; }
 
-private:
+ private:
   void prepare(std::span<const ga::Mot> motors);
 
   Eigen::MatrixXd P_;  // column-major: contiguous lanes for the vectorized loops
   Weights W_;
-  Eigen::VectorXi pivot_;        // argmax_j w_ij (first maximum, as ga::blend), PivotLog and Linear
+  Eigen::VectorXi pivot_;  // argmax_j w_ij (first maximum, as ga::blend), PivotLog and Linear
   ga::Blend mode_ = ga::Blend::Log;
   std::vector<ga::Dll> logs_;    // Log: k; PivotLog: k², logs_[p k + j] = log(R_j ~R_p)
   std::vector<ga::Mot> motors_;  // k, normalized

@@ -45,7 +45,8 @@ std::vector<ga::Mot> inherit_bone_motions(std::span<const Bone> bones, std::span
 /// the bone's length of a joint shared with another bone (the band around a joint is left free).
 /// Output: n×B harmonic_coordinates(V, F, regions, weights) (a partition of unity, ≥ 0 for
 /// mean-value weights). Throws Error naming a bone whose region is empty, and as harmonic_coordinates.
-Eigen::MatrixXd bone_harmonic_weights(const Mesh& mesh, std::span<const Bone> bones, double joint_fraction = 0.25,
+Eigen::MatrixXd bone_harmonic_weights(const Mesh& mesh, std::span<const Bone> bones,
+                                      double joint_fraction = 0.25,
                                       HarmonicWeights weights = HarmonicWeights::MeanValue);
 
 /// Skin weight text file (UTF-8, one record per line; '#' starts a comment; blank lines skipped):
@@ -56,7 +57,8 @@ Eigen::MatrixXd bone_harmonic_weights(const Mesh& mesh, std::span<const Bone> bo
 /// each skeleton bone exactly once). Throws Error "path:line: ..." for a missing or unknown bone name, a
 /// repeated name, a wrong number of values on a line, a value that is not a number, negative or not
 /// finite, an all-zero row, and "path: ..." for a file that cannot be read or has a vertex count ≠ n.
-Eigen::MatrixXd read_skin_weights(const std::filesystem::path& path, std::span<const Bone> bones, Eigen::Index n);
+Eigen::MatrixXd read_skin_weights(const std::filesystem::path& path, std::span<const Bone> bones,
+                                  Eigen::Index n);
 
 /// The skinning blends: the motor blends of ga::Blend (same order) and linear blend skinning.
 enum class SkinBlend { Log, PivotLog, Linear, LBS };
@@ -68,7 +70,7 @@ inline constexpr OptionNames<SkinBlend, 4> kSkinBlendNames{"blend",
 constexpr const auto& option_names(SkinBlend) { return kSkinBlendNames; }
 
 class SkinDeformer {
-public:
+ public:
   using Blend = SkinBlend;
 
   struct Options {
@@ -100,13 +102,14 @@ public:
   ga::Mot vertex_motor(Eigen::Index i, std::span<const ga::Mot> frames) const;
   const Options& options() const { return options_; }
 
-private:
+ private:
   struct Influence {
     std::array<int, 4> bone{0, 0, 0, 0};
     std::array<double, 4> w{0, 0, 0, 0};  // descending; unused slots 0
   };
   static SkinDeformer bind_rows(const Mesh& rest, std::span<const Bone> bones,
-                                std::vector<std::vector<std::pair<int, double>>> rows, const Options& options);
+                                std::vector<std::vector<std::pair<int, double>>> rows,
+                                const Options& options);
   void prepare(std::span<const ga::Mot> frames);
 
   Options options_;
@@ -115,10 +118,10 @@ private:
   Eigen::MatrixXd P_;
   std::vector<Influence> inf_;
   // per-pose scratch
-  std::vector<ga::Mot> motions_;                         // K_j
-  std::vector<Eigen::Matrix<double, 3, 4>> matrices_;   // LBS
-  std::vector<ga::Dll> logs_;                            // Log: B; PivotLog: B²
-  std::vector<double> signs_;                            // Linear: B²
+  std::vector<ga::Mot> motions_;                       // K_j
+  std::vector<Eigen::Matrix<double, 3, 4>> matrices_;  // LBS
+  std::vector<ga::Dll> logs_;                          // Log: B; PivotLog: B²
+  std::vector<double> signs_;                          // Linear: B²
 };
 
 }  // namespace spinmotor

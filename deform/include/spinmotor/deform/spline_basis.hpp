@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 #include <utility>
 #include <vector>
+
 #include "spinmotor/core/option_names.hpp"
 
 namespace spinmotor {

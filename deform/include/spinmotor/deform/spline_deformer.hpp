@@ -22,7 +22,7 @@
 namespace spinmotor {
 
 class SplineDeformer {
-public:
+ public:
   struct Options {
     SplineBasis basis = SplineBasis::BSpline;
     int degree = 3;  ///< BSpline only
@@ -45,7 +45,9 @@ public:
   /// n unit key motors (see deformer.hpp).
   void pose(std::span<const ga::Mot> keys, Eigen::MatrixXd& V_out) { field_.pose(keys, V_out); }
   /// n generators B_j = log R_j.
-  void pose_generators(std::span<const ga::Dll> keys, Eigen::MatrixXd& V_out) { field_.pose_generators(keys, V_out); }
+  void pose_generators(std::span<const ga::Dll> keys, Eigen::MatrixXd& V_out) {
+    field_.pose_generators(keys, V_out);
+  }
 
   /// The harmonic parameter λ (n values in [0, 1]).
   const Eigen::VectorXd& parameter() const { return lambda_; }
@@ -56,7 +58,7 @@ public:
   const std::vector<Control>& controls() const { return controls_; }
   Eigen::Index vertices() const { return lambda_.size(); }
 
-private:
+ private:
   Eigen::VectorXd lambda_;
   MotorBlendField field_;
   Options options_;

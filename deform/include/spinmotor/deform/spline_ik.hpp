@@ -27,7 +27,7 @@
 namespace spinmotor {
 
 class SplineIkDeformer {
-public:
+ public:
   struct Options {
     int controls = 5;  ///< B-spline controls of the fit (≥ degree + 1)
     int degree = 3;    ///< B-spline degree
@@ -58,7 +58,7 @@ public:
   double fabrik_ms() const { return fabrik_ms_; }
   double fit_ms() const { return fit_ms_; }
 
-private:
+ private:
   void solve(const Eigen::Vector3d& target);
 
   Options options_;

@@ -19,7 +19,7 @@
 namespace spinmotor {
 
 class SurfaceHarmonicDeformer {
-public:
+ public:
   struct Options {
     HarmonicWeights weights = HarmonicWeights::MeanValue;
     ga::Blend blend = ga::Blend::Log;
@@ -29,7 +29,8 @@ public:
 
   /// Throws Error for bad handles (check_handles), a degenerate face, a connected component without
   /// any handle vertex (naming it), or rest motors that are not unit.
-  static SurfaceHarmonicDeformer bind(const Mesh& rest, std::span<const Handle> handles, const Options& options);
+  static SurfaceHarmonicDeformer bind(const Mesh& rest, std::span<const Handle> handles,
+                                      const Options& options);
   static SurfaceHarmonicDeformer bind(const Mesh& rest, std::span<const Handle> handles);
   /// The deformer shape (deformer.hpp): rig.handles, one control per handle.
   static SurfaceHarmonicDeformer bind(const Mesh& rest, const Rig& rig, const Options& options) {
@@ -47,7 +48,7 @@ public:
   Eigen::Index vertices() const { return field_.vertices(); }
   const Options& options() const { return options_; }
 
-private:
+ private:
   MotorBlendField field_;
   Options options_;
   std::vector<Control> controls_;

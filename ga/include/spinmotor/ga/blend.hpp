@@ -19,9 +19,9 @@
 #include <cstddef>
 #include <span>
 
-#include "spinmotor/ga/motor.hpp"
-#include "spinmotor/core/option_names.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/option_names.hpp"
+#include "spinmotor/ga/motor.hpp"
 
 namespace spinmotor::ga {
 
@@ -80,7 +80,8 @@ Dll weighted_log_sum(std::span<const Mot> motors, std::span<const double> weight
 
 /// DLB for motors: normalize(Σ w_i s_i M_i) with s_i the sign of <M_p ~M_i>_0 (the quaternion dot
 /// product of the rotor parts), accumulated as two 4-lane halves (rotor part, translation part).
-[[nodiscard]] inline Mot linear_blend(std::span<const Mot> motors, std::span<const double> weights, std::size_t p) {
+[[nodiscard]] inline Mot linear_blend(std::span<const Mot> motors, std::span<const double> weights,
+                                      std::size_t p) {
   using A = Lanes<4>;
   const A rotor_p = Eigen::Map<const A>(motors[p].data());
   A lo = A::Zero(), hi = A::Zero();

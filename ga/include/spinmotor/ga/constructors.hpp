@@ -14,8 +14,8 @@
 // Bad input (zero axis, zero normal, zero direction, point at infinity) throws spinmotor::Error;
 // spinmotor::Error lives in the mesh module, which depends on ga, not the other way round.
 
-#include "spinmotor/ga/quaternion.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/ga/quaternion.hpp"
 
 namespace spinmotor::ga {
 
@@ -23,14 +23,15 @@ namespace spinmotor::ga {
 [[nodiscard]] inline Eigen::Vector3d to_eigen(const Vec& v) { return {v[0], v[1], v[2]}; }
 
 /// Null point o + x + ½|x|² inf.
-[[nodiscard]] inline Pnt up(const Eigen::Vector3d& x) noexcept { return Pnt(x.x(), x.y(), x.z(), 1.0, 0.5 * x.squaredNorm()); }
+[[nodiscard]] inline Pnt up(const Eigen::Vector3d& x) noexcept {
+  return Pnt(x.x(), x.y(), x.z(), 1.0, 0.5 * x.squaredNorm());
+}
 
 /// The Euclidean point of a point X = w (o + x + ...): x = (X1, X2, X3) / X_o, X_o = -X·inf.
 [[nodiscard]] inline Eigen::Vector3d down(const Pnt& p) {
   const double w = p.get<blade::o>();
   if (w == 0.0 || !std::isfinite(w))
-    throw Error(
-        "ga::down: the point has zero (or non-finite) o component (point at infinity)");
+    throw Error("ga::down: the point has zero (or non-finite) o component (point at infinity)");
   return Eigen::Vector3d(p[0], p[1], p[2]) / w;
 }
 
@@ -47,7 +48,9 @@ namespace spinmotor::ga {
 }
 
 /// Translator 1 - ½ t inf (translation by t).
-[[nodiscard]] inline Trs translator(const Eigen::Vector3d& t) noexcept { return Trs(1.0, -0.5 * t.x(), -0.5 * t.y(), -0.5 * t.z()); }
+[[nodiscard]] inline Trs translator(const Eigen::Vector3d& t) noexcept {
+  return Trs(1.0, -0.5 * t.x(), -0.5 * t.y(), -0.5 * t.z());
+}
 
 /// The motor T R: first the rotation R, then the translation T.
 [[nodiscard]] inline Mot motor(const Rot& r, const Trs& t) noexcept { return t * r; }
@@ -55,8 +58,7 @@ namespace spinmotor::ga {
 /// Dual plane n̂ + d inf, the points x with n̂·x = d (d = signed distance from the origin).
 [[nodiscard]] inline Pln plane(const Eigen::Vector3d& normal, double d) {
   const double n = normal.norm();
-  if (!(n > 0.0) || !std::isfinite(n))
-    throw Error("ga::plane: the normal must be finite and non-zero");
+  if (!(n > 0.0) || !std::isfinite(n)) throw Error("ga::plane: the normal must be finite and non-zero");
   return Pln(normal.x() / n, normal.y() / n, normal.z() / n, d);
 }
 
@@ -64,8 +66,7 @@ namespace spinmotor::ga {
 /// exp(½θ L*) is the rotation by θ about the line (right hand around d̂).
 [[nodiscard]] inline Dll line(const Eigen::Vector3d& p, const Eigen::Vector3d& d) {
   const double n = d.norm();
-  if (!(n > 0.0) || !std::isfinite(n))
-    throw Error("ga::line: the direction must be finite and non-zero");
+  if (!(n > 0.0) || !std::isfinite(n)) throw Error("ga::line: the direction must be finite and non-zero");
   const Lin l = (up(p) ^ vec(d / n)) ^ MV<blade::ni>{1.0};
   return dual(l);
 }

@@ -10,8 +10,8 @@
 #include <string>
 #include <utility>
 
-#include "spinmotor/ga/motor.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/ga/motor.hpp"
 
 namespace spinmotor::ga {
 
@@ -63,12 +63,14 @@ SPINMOTOR_GA_PURE Eigen::Vector3d transform(const Mot& m, const Eigen::Vector3d&
 }
 
 /// (real, dual) unit dual quaternion of a motor, dual = ½ t real.
-[[nodiscard]] inline std::pair<Eigen::Quaterniond, Eigen::Quaterniond> to_dual_quaternion(const Mot& m) noexcept {
+[[nodiscard]] inline std::pair<Eigen::Quaterniond, Eigen::Quaterniond> to_dual_quaternion(
+    const Mot& m) noexcept {
   return {to_quaterniond(rotor_part(m)), to_quaterniond(dual_part(m))};
 }
 
 /// The motor of a dual quaternion real + ε dual (inverse of to_dual_quaternion; not normalised).
-[[nodiscard]] inline Mot from_dual_quaternion(const Eigen::Quaterniond& real, const Eigen::Quaterniond& dual) noexcept {
+[[nodiscard]] inline Mot from_dual_quaternion(const Eigen::Quaterniond& real,
+                                              const Eigen::Quaterniond& dual) noexcept {
   return Mot(real.w(), -real.z(), -real.y(), -real.x(), -dual.x(), -dual.y(), -dual.z(), -dual.w());
 }
 
@@ -80,8 +82,8 @@ SPINMOTOR_GA_PURE Eigen::Vector3d transform(const Mot& m, const Eigen::Vector3d&
   if (!l.allFinite() || !t.allFinite()) throw Error("ga::from_isometry: non-finite entry");
   const double orth = (l.transpose() * l - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
   if (orth > 1e-6 || l.determinant() <= 0.0)
-    throw Error("ga::from_isometry: the linear part is not a rotation (|LᵀL - I| = " +
-                                std::to_string(orth) + ", det = " + std::to_string(l.determinant()) + ")");
+    throw Error("ga::from_isometry: the linear part is not a rotation (|LᵀL - I| = " + std::to_string(orth) +
+                ", det = " + std::to_string(l.determinant()) + ")");
   const Quat r = from_quaterniond(Eigen::Quaterniond(l).normalized());
   return motor(r, translator(t));
 }

@@ -27,8 +27,8 @@
 #include <array>
 #include <cmath>
 
-#include "spinmotor/ga/constructors.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/ga/constructors.hpp"
 
 namespace spinmotor::ga {
 
@@ -58,7 +58,7 @@ inline constexpr double kExpSeriesMax = 2.56;
 /// Σ_i c[first + 2i] y^i over i < sizeof...(I) + 1, by Horner's rule unrolled at compile time.
 template <std::size_t N, std::size_t... I>
 [[nodiscard]] constexpr double horner2(const std::array<double, N>& c, std::size_t first, double y,
-                         std::index_sequence<I...>) {
+                                       std::index_sequence<I...>) {
   constexpr std::size_t top = sizeof...(I);
   double acc = c[first + 2 * top];
   ((acc = acc * y + c[first + 2 * (top - 1 - I)]), ...);
@@ -141,8 +141,7 @@ template <class T>
 SPINMOTOR_GA_INLINE void log_kernel(const T (&m)[8], T (&out)[6]) {
   const T b2 = m[1] * m[1] + m[2] * m[2] + m[3] * m[3];
   const T rho2 = m[0] * m[0] + b2;
-  if (!positive_finite(rho2))
-    throw Error("ga::log: the motor's rotor part is zero or not finite");
+  if (!positive_finite(rho2)) throw Error("ga::log: the motor's rotor part is zero or not finite");
   const T p = lane_sqrt(rho2) + m[0];
   const T d = 1.0 / (p + lane_sqrt(p * p + b2));
   const T t = lane_sqrt(b2) * d;        // tan(φ/4)
@@ -201,7 +200,9 @@ SPINMOTOR_GA_INLINE void log_kernel(const T (&m)[8], T (&out)[6]) {
 }
 
 /// Screw linear interpolation a (~a b)^t along the shortest screw from a (t = 0) to ±b (t = 1).
-[[nodiscard]] inline Mot sclerp(const Mot& a, const Mot& b, double t) { return a * exp(t * log(reverse(a) * b)); }
+[[nodiscard]] inline Mot sclerp(const Mot& a, const Mot& b, double t) {
+  return a * exp(t * log(reverse(a) * b));
+}
 
 /// Rotor exponential: exp(I3 ω) = cos|ω| + sinc|ω| I3 ω, the rotation by -2|ω| about ω̂.
 [[nodiscard]] inline Rot exp(const Biv& b) noexcept {

@@ -39,7 +39,8 @@ constexpr std::uint32_t product_set(Op p, const std::array<Basis, NA>& a, const 
 }
 
 template <std::size_t NA, std::size_t NB>
-[[nodiscard]] constexpr std::size_t product_count(Op p, const std::array<Basis, NA>& a, const std::array<Basis, NB>& b) {
+[[nodiscard]] constexpr std::size_t product_count(Op p, const std::array<Basis, NA>& a,
+                                                  const std::array<Basis, NB>& b) {
   std::size_t n = 0;
   for (std::size_t i = 0; i < NA; ++i)
     for (std::size_t j = 0; j < NB; ++j)
@@ -95,7 +96,8 @@ SPINMOTOR_GA_INLINE constexpr void step(R& r, const X& x, const Y& y, Entry e) n
 }
 
 template <class T, class X, class Y, std::size_t... t>
-SPINMOTOR_GA_PURE constexpr typename T::R run_terms(const X& x, const Y& y, std::index_sequence<t...>) noexcept {
+SPINMOTOR_GA_PURE constexpr typename T::R run_terms(const X& x, const Y& y,
+                                                    std::index_sequence<t...>) noexcept {
   typename T::R r;
   (step(r, x, y, T::entries[t]), ...);
   return r;
@@ -119,7 +121,8 @@ struct ConjugateSign {  // (-1)^{k(k+1)/2}
 
 /// Each coefficient times S::of(grade of its blade) (a compile-time ±1) times s.
 template <class S, Basis... A, std::size_t... i>
-SPINMOTOR_GA_PURE constexpr MV<A...> grade_signs(const MV<A...>& a, double s, std::index_sequence<i...>) noexcept {
+SPINMOTOR_GA_PURE constexpr MV<A...> grade_signs(const MV<A...>& a, double s,
+                                                 std::index_sequence<i...>) noexcept {
   MV<A...> r;
   ((r.c[i] = S::of(grade_of(mask_of(MV<A...>::basis[i]))) * (s * a.c[i])), ...);
   return r;
@@ -149,7 +152,7 @@ SPINMOTOR_GA_PURE constexpr double sum_coef(const A& a, const B& b, double sb) n
 
 template <class R, Basis... A, Basis... B, std::size_t... k>
 SPINMOTOR_GA_PURE constexpr R sum(const MV<A...>& a, const MV<B...>& b, double sb,
-                                    std::index_sequence<k...>) {
+                                  std::index_sequence<k...>) {
   R r;
   ((r.c[k] = sum_coef<R::basis[k]>(a, b, sb)), ...);
   return r;

@@ -18,13 +18,17 @@ namespace spinmotor::ga {
 using Quat = Rot;
 
 /// The imaginary quaternion v.x i + v.y j + v.z k.
-[[nodiscard]] inline Quat imaginary(const Eigen::Vector3d& v) noexcept { return Quat(0.0, v.x(), v.y(), v.z()); }
+[[nodiscard]] inline Quat imaginary(const Eigen::Vector3d& v) noexcept {
+  return Quat(0.0, v.x(), v.y(), v.z());
+}
 
 /// Quaternion conjugate w - x i - y j - z k (the reverse).
 [[nodiscard]] inline Quat conj(const Quat& q) noexcept { return reverse(q); }
 
 /// From Eigen's (w, x, y, z) quaternion; the component order is the same.
-[[nodiscard]] inline Quat from_quaterniond(const Eigen::Quaterniond& q) noexcept { return Quat(q.w(), q.x(), q.y(), q.z()); }
+[[nodiscard]] inline Quat from_quaterniond(const Eigen::Quaterniond& q) noexcept {
+  return Quat(q.w(), q.x(), q.y(), q.z());
+}
 
 /// To Eigen's quaternion (not normalised).
 [[nodiscard]] inline Eigen::Quaterniond to_quaterniond(const Quat& q) noexcept {

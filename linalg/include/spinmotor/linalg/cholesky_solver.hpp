@@ -37,7 +37,7 @@
 namespace spinmotor {
 
 class CholeskySolver {
-public:
+ public:
   enum class Ordering { Auto, Natural, AMD, METIS, NESDIS };
 
   struct Options {
@@ -74,7 +74,7 @@ public:
   double factor_flops() const;
   const Options& options() const;
 
-private:
+ private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

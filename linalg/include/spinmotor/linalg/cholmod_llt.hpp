@@ -14,7 +14,6 @@
 // by DiracAssembly, so Natural is the default here (CHOLMOD still postorders the elimination tree).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
-
 #include <complex>
 #include <memory>
 
@@ -22,7 +21,7 @@ namespace spinmotor::detail {
 
 template <class Scalar>  // double or std::complex<double>
 class CholmodLLT {
-public:
+ public:
   enum class Ordering { Natural, AMD, METIS };
   /// Which system solve() solves (CHOLMOD's sys argument): A x = b, or one factor of A = Pᵀ L Lᴴ P.
   enum class System { A, L, Lt, P, Pt };
@@ -40,7 +39,7 @@ public:
   double factor_nonzeros() const;
   double factor_flops() const;
 
-private:
+ private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

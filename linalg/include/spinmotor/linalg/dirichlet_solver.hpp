@@ -23,7 +23,7 @@
 namespace spinmotor {
 
 class DirichletSolver {
-public:
+ public:
   enum class Kind {
     SPD,  ///< A_FF symmetric positive definite: CholeskySolver (only the lower triangle of A is read)
     LU,   ///< general: LUSolver
@@ -59,7 +59,7 @@ public:
   const Eigen::VectorXi& constrained() const;  ///< as given to bind()
   const Eigen::VectorXi& free() const;         ///< the other indices, increasing
 
-private:
+ private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

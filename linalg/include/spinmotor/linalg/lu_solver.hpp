@@ -31,7 +31,7 @@
 namespace spinmotor {
 
 class LUSolver {
-public:
+ public:
   enum class Ordering { Natural, COLAMD, MMD_AtA, MMD_AtPlusA };
 
   struct Options {
@@ -66,7 +66,7 @@ public:
   double rcond() const;
   const Options& options() const;
 
-private:
+ private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

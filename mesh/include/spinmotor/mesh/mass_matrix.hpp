@@ -22,7 +22,8 @@ Eigen::VectorXd vertex_areas(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
 /// Barycentric vertex areas from given face areas: vertex i gets a third of the area of every face
 /// around it (faces and corners in order, so the sums are reproducible). Inputs: F (m×3) with indices
 /// in [0, n), face_area (m). Output: n areas.
-Eigen::VectorXd barycentric_vertex_areas(const Eigen::MatrixXi& F, const Eigen::VectorXd& face_area, Eigen::Index n);
+Eigen::VectorXd barycentric_vertex_areas(const Eigen::MatrixXi& F, const Eigen::VectorXd& face_area,
+                                         Eigen::Index n);
 
 /// Inputs: V (n×3), F (m×3), type. Output: n×n diagonal sparse M = diag(vertex_areas(V, F, type)),
 /// every diagonal entry stored (also zeros).

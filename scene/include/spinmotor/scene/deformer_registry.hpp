@@ -28,9 +28,10 @@ namespace spinmotor::scene {
 
 /// A bound deformer of a scene: the library deformer and the scene's view of it.
 class SceneDeformer {
-public:
+ public:
   /// Per-frame figures merged into the metrics JSON (e.g. "arap", "ik"); gets the frame's motors.
-  using Report = std::function<nlohmann::json(const AnyDeformer&, std::span<const ga::Mot>, const Eigen::MatrixXd&)>;
+  using Report =
+      std::function<nlohmann::json(const AnyDeformer&, std::span<const ga::Mot>, const Eigen::MatrixXd&)>;
   /// The motors of a pose, in control order. Default: by control name, identity when absent.
   using Motors = std::function<void(const Pose&, std::vector<ga::Mot>&)>;
 
@@ -55,7 +56,7 @@ public:
   /// Figures of bind() merged into the metrics JSON (e.g. the IK solve and fit, ARAP's factorization).
   nlohmann::json bind_report() const;
 
-private:
+ private:
   const Scene& scene_;
   AnyDeformer d_;
   Report report_;
@@ -91,7 +92,7 @@ std::span<const DeformerType> deformer_types();
 std::unique_ptr<SceneDeformer> bind_deformer(const Scene& scene);
 
 /// Max distance of the vertices of `handles[j]` from motors[j] applied to their rest positions.
-double max_handle_error(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V, std::span<const Handle> handles,
-                        std::span<const ga::Mot> motors);
+double max_handle_error(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V,
+                        std::span<const Handle> handles, std::span<const ga::Mot> motors);
 
 }  // namespace spinmotor::scene

@@ -14,7 +14,6 @@
 // type matches, whose discriminating constants (e.g. "type": "spline") match, without unknown or
 // missing keys at its own level, then the one whose first error is deepest.
 #include <nlohmann/json.hpp>
-
 #include <string>
 #include <string_view>
 #include <vector>
@@ -27,7 +26,7 @@ struct SchemaError {
 };
 
 class JsonSchema {
-public:
+ public:
   /// Throws spinmotor::Error if the schema uses a keyword outside the supported subset (naming the
   /// schema path) or a $ref that does not resolve.
   explicit JsonSchema(nlohmann::json schema);
@@ -37,9 +36,10 @@ public:
 
   const nlohmann::json& schema() const { return root_; }
 
-private:
+ private:
   struct Issue;
-  void check(const nlohmann::json& s, const nlohmann::json& x, const std::string& path, std::vector<Issue>& out) const;
+  void check(const nlohmann::json& s, const nlohmann::json& x, const std::string& path,
+             std::vector<Issue>& out) const;
   const nlohmann::json& resolve(const std::string& ref) const;
   void lint(const nlohmann::json& s, const std::string& where) const;
 

@@ -28,10 +28,10 @@
 namespace spinmotor::scene {
 
 struct FrameResult {
-  Eigen::MatrixXd V;       ///< output positions (n×3): the deformation, or its snap when snap is enabled
+  Eigen::MatrixXd V;  ///< output positions (n×3): the deformation, or its snap when snap is enabled
   Eigen::MatrixXd V_unsnapped;  ///< the deformer's positions when snap is enabled (else empty)
-  double pose_ms = 0;      ///< time of the deformer's pose() for this frame
-  nlohmann::json metrics;  ///< the metrics document of this frame
+  double pose_ms = 0;           ///< time of the deformer's pose() for this frame
+  nlohmann::json metrics;       ///< the metrics document of this frame
 };
 
 struct RunResult {
@@ -54,8 +54,9 @@ std::filesystem::path output_path(const Scene& scene, const std::filesystem::pat
                                   const std::optional<std::filesystem::path>& out_dir);
 
 /// Writes the outputs the scene asks for; returns the files written.
-std::vector<std::filesystem::path> write_outputs(const Scene& scene, const RunResult& result,
-                                                 const std::optional<std::filesystem::path>& out_dir = std::nullopt);
+std::vector<std::filesystem::path> write_outputs(
+    const Scene& scene, const RunResult& result,
+    const std::optional<std::filesystem::path>& out_dir = std::nullopt);
 
 /// Binary PLY of the deformed mesh with per-face colours of the quasi-conformal error Q (blue at
 /// Q = 1 through yellow to red at Q ≥ 2, log scale). Atomic.

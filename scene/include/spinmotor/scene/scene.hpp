@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
-#include "spinmotor/deform/deformer.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/deform/deformer.hpp"
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
@@ -39,7 +39,8 @@ const nlohmann::json& scene_schema();
 /// One frame's motors by control name (handle, key or control point); missing names are identities.
 struct Pose {
   std::map<std::string, ga::Mot> motors;
-  std::string path;  ///< JSON Pointer of the pose object ("/pose", "/frames/2"); entries are path + "/" + name
+  std::string
+      path;  ///< JSON Pointer of the pose object ("/pose", "/frames/2"); entries are path + "/" + name
   /// The motor of `name`, or the identity.
   ga::Mot motor(const std::string& name) const;
   /// JSON Pointer of the entry `name`.
@@ -47,7 +48,7 @@ struct Pose {
 };
 
 struct IkSpec {
-  Eigen::MatrixXd chain;             ///< k×3 rest joint positions
+  Eigen::MatrixXd chain;  ///< k×3 rest joint positions
   Eigen::Vector3d target;
   double tolerance = 1e-4;
   int iterations = 50;
@@ -59,7 +60,7 @@ struct SnapSpec {
   /// "mode": free (§7.2), shape (extrusion toward the edit's curvature, Le Folgoc 2019) or pinned (the
   /// pose-keeping cleanup); default free, pinned when "pins" is given.
   SnapMode mode = SnapMode::Free;
-  std::vector<int> pin_handles;  ///< pinned mode: indices of the handles whose vertices are pinned
+  std::vector<int> pin_handles;          ///< pinned mode: indices of the handles whose vertices are pinned
   CleanupKeep keep = CleanupKeep::Auto;  ///< pinned mode: the measure kept
   int iterations = PinnedCleanupOptions{}.max_iterations;  ///< pinned mode: at most this many steps
   double tradeoff = 1.0;       ///< spin mode: similarities (0) … integrable spin transformation (1)
@@ -80,7 +81,7 @@ struct Scene {
   std::string mesh_source;     ///< file path or generator name
   std::vector<Handle> handles;
   std::string deformer_type;
-  nlohmann::json deformer;  ///< the /deformer block
+  nlohmann::json deformer;   ///< the /deformer block
   std::vector<Pose> frames;  ///< one for `pose` (or none given), several for `frames`
   bool animated = false;     ///< `frames` was given: outputs get frame numbers
   std::optional<IkSpec> ik;
@@ -101,11 +102,13 @@ struct Scene {
 Scene load_scene(const std::filesystem::path& file);
 
 /// Same from an in-memory document; relative paths are relative to `dir`, messages name `name`.
-Scene parse_scene(const nlohmann::json& doc, const std::filesystem::path& dir, const std::string& name = "scene");
+Scene parse_scene(const nlohmann::json& doc, const std::filesystem::path& dir,
+                  const std::string& name = "scene");
 
 /// A motor from its JSON form (docs/scene.md `pose`): rotate/translate, matrix (rigid, row-major 4×4) or
 /// quaternion (normalized) + translate. Throws Error naming `pointer` (and the sub-key) when the
 /// matrix is not rigid or an axis/quaternion is zero.
-ga::Mot parse_motor(const nlohmann::json& j, const std::string& pointer, const std::string& scene_name = "scene");
+ga::Mot parse_motor(const nlohmann::json& j, const std::string& pointer,
+                    const std::string& scene_name = "scene");
 
 }  // namespace spinmotor::scene

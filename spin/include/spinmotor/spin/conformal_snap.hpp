@@ -40,7 +40,6 @@
 // the global alignment of λ with μ is then too coarse for a linear blend (t = 0.5 overshoots the
 // bend). rho_smoothing helps Q (40 passes: 1.06, below the edit's 1.127) but not the pose.
 #include <Eigen/Core>
-
 #include <memory>
 
 #include "spinmotor/core/option_names.hpp"
@@ -58,9 +57,11 @@ namespace spinmotor {
 ///           as conformal as possible at the rest volume (pinned_cleanup.hpp).
 /// "spin" is the former name of Free, still accepted.
 enum class SnapMode { Free, Shape, Pinned };
-inline constexpr OptionNames<SnapMode, 4> kSnapModeNames{
-    "snap mode",
-    {{{SnapMode::Free, "free"}, {SnapMode::Free, "spin"}, {SnapMode::Shape, "shape"}, {SnapMode::Pinned, "pinned"}}}};
+inline constexpr OptionNames<SnapMode, 4> kSnapModeNames{"snap mode",
+                                                         {{{SnapMode::Free, "free"},
+                                                           {SnapMode::Free, "spin"},
+                                                           {SnapMode::Shape, "shape"},
+                                                           {SnapMode::Pinned, "pinned"}}}};
 constexpr const auto& option_names(SnapMode) { return kSnapModeNames; }
 
 /// How the snapped mesh is placed onto the edit.
@@ -89,9 +90,9 @@ struct ConformalSnapOptions {
 /// Wall-clock times in milliseconds of one snap.
 struct SnapTimings {
   double similarity_fit = 0;  ///< per-face similarities, vertex averages, optimal ρ
-  double bind = 0;            ///< SpinTransform bind inside this snap (open meshes with boundary tangents only)
-  double eigen = 0;           ///< assembly + numeric factorization + inverse iteration
-  double poisson = 0;         ///< tradeoff blend, eq. 8 edges, Poisson solve, alignment to the edit
+  double bind = 0;     ///< SpinTransform bind inside this snap (open meshes with boundary tangents only)
+  double eigen = 0;    ///< assembly + numeric factorization + inverse iteration
+  double poisson = 0;  ///< tradeoff blend, eq. 8 edges, Poisson solve, alignment to the edit
   double total() const { return similarity_fit + bind + eigen + poisson; }
 };
 
@@ -104,7 +105,7 @@ struct ConformalSnapResult {
   int iterations = 0;      ///< inverse iterations
   double residual = 0;     ///< eigen-residual
   Eigen::Index collapsed_faces = 0;  ///< edited faces of zero area (no similarity; weight 0 in step 2)
-  Similarity alignment;    ///< transform applied to the reconstruction in step 7
+  Similarity alignment;              ///< transform applied to the reconstruction in step 7
   SnapTimings timings;
 };
 
@@ -131,7 +132,7 @@ Eigen::MatrixXd vertex_similarities(const Eigen::MatrixXi& F, Eigen::Index n, co
 Eigen::VectorXd nearest_rho(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& mu);
 
 class ConformalSnap {
-public:
+ public:
   /// Bind. Inputs: rest mesh (connected oriented manifold, no degenerate faces or unreferenced
   /// vertices; closed for the Generalized problem), options (tradeoff in [0, 1], finite). Closed
   /// meshes, or open ones without boundary_tangents: the SpinTransform (vertex ordering, symbolic
@@ -152,7 +153,7 @@ public:
   double bind_ms() const;       ///< time of the constructor
   const Mesh& rest() const;
 
-private:
+ private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

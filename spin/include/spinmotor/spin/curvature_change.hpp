@@ -4,7 +4,6 @@
 // so ρ = 5 on a unit sphere corresponds to ρ = 0.05 on a sphere of radius 100).
 // Ways to paint it, each returning m values (one per face):
 #include <Eigen/Core>
-
 #include <filesystem>
 #include <functional>
 

@@ -32,7 +32,7 @@ namespace spinmotor {
 struct CurvatureSpinOptions {
   double alpha = 5.0;  ///< weight of the regulariser (φ−1)ᵀR(φ−1) of eq. 8 (> 0; ellipsoid study: 0.5
                        ///< diverges after 4 steps of τ = ½ without the Laplacian, 5–50 stable)
-  double beta = 1.0;          ///< weight of the face Laplacian in R (≥ 0)
+  double beta = 1.0;   ///< weight of the face Laplacian in R (≥ 0)
   double area_epsilon = 0.0;  ///< tolerance ε of the area soft constraint (Appendix D); 0 = off
   bool exactness = true;      ///< genus > 0: the exactness constraints of Appendix C (ignored on spheres)
 };

@@ -31,7 +31,6 @@
 // 4×4 blocks a general ordering has to rediscover (bench_spin measures both).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
-
 #include <complex>
 #include <vector>
 
@@ -41,13 +40,13 @@ namespace spinmotor {
 enum class VertexOrdering { Natural, AMD, METIS };
 
 class DiracAssembly {
-public:
+ public:
   /// Inputs: V (n×3), F (m×3, counter-clockwise, every face with positive area, every vertex in a
   /// face), ordering, and the reduced (boundary) vertices with their 4×2 blocks U_i = W_i C_i (§5.7).
   /// Throws Error on a degenerate face, an index out of range, an unreferenced vertex, a reduced
   /// vertex listed twice or out of range.
-  DiracAssembly(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, VertexOrdering ordering = VertexOrdering::AMD,
-                const Eigen::VectorXi& reduced_vertices = {},
+  DiracAssembly(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                VertexOrdering ordering = VertexOrdering::AMD, const Eigen::VectorXi& reduced_vertices = {},
                 const std::vector<Eigen::Matrix<double, 4, 2>>& reductions = {});
 
   Eigen::Index num_vertices() const { return n_; }
@@ -67,10 +66,12 @@ public:
 
   /// Inputs: rho (m), scale (n, s_i > 0; empty means all ones). Output: K's values written into
   /// `K`, which must have pattern() (copy it once, then refill for each ρ).
-  void normal_matrix(const Eigen::VectorXd& rho, const Eigen::VectorXd& scale, Eigen::SparseMatrix<double>& K) const;
+  void normal_matrix(const Eigen::VectorXd& rho, const Eigen::VectorXd& scale,
+                     Eigen::SparseMatrix<double>& K) const;
   /// Same for G = B*A (eq. 6). The imaginary part of its diagonal (zero on a closed mesh up to
   /// rounding) is dropped so that the lower triangle describes a symmetric matrix.
-  void mixed_matrix(const Eigen::VectorXd& rho, const Eigen::VectorXd& scale, Eigen::SparseMatrix<double>& G) const;
+  void mixed_matrix(const Eigen::VectorXd& rho, const Eigen::VectorXd& scale,
+                    Eigen::SparseMatrix<double>& G) const;
 
   /// Complex form (only without reductions): pattern with 2 complex unknowns per vertex, (w1, w2) =
   /// (a + bi, c − di) for λ_i = a + bi + cj + dk, lower triangle, values zero. Built on first use.
@@ -89,28 +90,29 @@ public:
   /// sense per vertex (x_i = U_i⁺ λ_i); used for start vectors.
   Eigen::VectorXd restrict_field(const Eigen::MatrixXd& lambda) const;
 
-private:
+ private:
   using RowQuats = Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>;
   void normal_entries(const Eigen::VectorXd& rho, Eigen::VectorXd& diag, RowQuats& edge_q) const;
   void mixed_entries(const Eigen::VectorXd& rho, Eigen::VectorXd& diag, RowQuats& edge_q) const;
   void fill_complex(const Eigen::VectorXd& scale, const Eigen::VectorXd& diag, const RowQuats& edge_q,
                     Eigen::SparseMatrix<std::complex<double>>& K) const;
-  void fill(const Eigen::VectorXd& scale, const Eigen::VectorXd& diag, const Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>& edge_q,
+  void fill(const Eigen::VectorXd& scale, const Eigen::VectorXd& diag,
+            const Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>& edge_q,
             Eigen::SparseMatrix<double>& K) const;
 
   Eigen::Index n_ = 0, m_ = 0;
   bool reduced_ = false;
-  Eigen::MatrixXi F_;                      // faces (original vertex indices)
+  Eigen::MatrixXi F_;  // faces (original vertex indices)
   Eigen::VectorXd area_, vertex_area_;
-  Eigen::MatrixXd edge_vec_;               // m×9: e_0, e_1, e_2 (opposite corners 0, 1, 2)
-  Eigen::MatrixXd normal_;                 // m×3 unit normals
-  Eigen::MatrixXi E_;                      // unique edges (original indices, E0 < E1)
-  Eigen::VectorXi EF_offset_, EF_face_;    // edge → faces (CSR)
-  Eigen::VectorXi EF_sign_;                // +1 if face's corner pair (c, c+1) runs E0 → E1, else −1
-  Eigen::VectorXi EF_corner_;              // the corner c of that pair
-  Eigen::VectorXi VF_offset_, VF_corner_;  // vertex → (3f + c) corners (CSR)
-  Eigen::VectorXi order_, rank_;           // new → old, old → new
-  std::vector<Eigen::Index> dof_offset_;   // per NEW vertex index, n+1 entries
+  Eigen::MatrixXd edge_vec_;                    // m×9: e_0, e_1, e_2 (opposite corners 0, 1, 2)
+  Eigen::MatrixXd normal_;                      // m×3 unit normals
+  Eigen::MatrixXi E_;                           // unique edges (original indices, E0 < E1)
+  Eigen::VectorXi EF_offset_, EF_face_;         // edge → faces (CSR)
+  Eigen::VectorXi EF_sign_;                     // +1 if face's corner pair (c, c+1) runs E0 → E1, else −1
+  Eigen::VectorXi EF_corner_;                   // the corner c of that pair
+  Eigen::VectorXi VF_offset_, VF_corner_;       // vertex → (3f + c) corners (CSR)
+  Eigen::VectorXi order_, rank_;                // new → old, old → new
+  std::vector<Eigen::Index> dof_offset_;        // per NEW vertex index, n+1 entries
   std::vector<Eigen::Matrix<double, 4, 2>> U_;  // per NEW vertex index (used when dof = 2)
   // Per new vertex j: its neighbours k > j in new order, with the edge and whether the edge's
   // stored orientation (E0 → E1) is (row k, column j).

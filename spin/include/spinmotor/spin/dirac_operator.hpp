@@ -39,6 +39,7 @@ Eigen::SparseMatrix<double> dirac_minus_rho(const Eigen::MatrixXd& V, const Eige
                                             const Eigen::VectorXd& rho);
 
 /// Inputs: X (4m×4k), face_areas (m). Output: X* = X̂ᵀ M̂_F (4k×4m), the adjoint of §5.4.
-Eigen::SparseMatrix<double> dirac_adjoint(const Eigen::SparseMatrix<double>& X, const Eigen::VectorXd& face_areas);
+Eigen::SparseMatrix<double> dirac_adjoint(const Eigen::SparseMatrix<double>& X,
+                                          const Eigen::VectorXd& face_areas);
 
 }  // namespace spinmotor

@@ -7,7 +7,6 @@
 // v pointing up, as in OBJ files. (TGA stores rows bottom-up unless its origin bit says otherwise, PNG
 // top-down; stb reports the top row first and the reader flips it.)
 #include <Eigen/Core>
-
 #include <filesystem>
 
 namespace spinmotor {
@@ -17,7 +16,9 @@ struct GrayscaleImage {
   int height = 0;
   Eigen::VectorXf pixels;  ///< width·height values in [0, 255], index x + y·width, y = 0 the bottom row
 
-  float at(int x, int y) const { return pixels[static_cast<Eigen::Index>(x) + static_cast<Eigen::Index>(y) * width]; }
+  float at(int x, int y) const {
+    return pixels[static_cast<Eigen::Index>(x) + static_cast<Eigen::Index>(y) * width];
+  }
 
   /// Bilinear sample at pixel coordinates (x, y) with no half-pixel offset: pixel (i, j) is the value
   /// at (i, j); neighbours outside the image are clamped to the edge (SpinXForm's Image::sample).

@@ -41,7 +41,8 @@ inline Eigen::VectorXd flatten_quaternions(const Eigen::MatrixXd& Q) {
 
 /// Inputs: x (4n real vector). Output: the n×4 quaternion field (real part first).
 inline Eigen::MatrixXd unflatten_quaternions(const Eigen::VectorXd& x) {
-  return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>>(x.data(), x.size() / 4, 4);
+  return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>>(x.data(), x.size() / 4,
+                                                                                     4);
 }
 
 }  // namespace spinmotor

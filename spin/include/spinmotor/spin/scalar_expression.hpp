@@ -11,7 +11,6 @@
 // Variables: x, y, z (the position), r = |p|. Constants: pi, e. Functions: sin, cos, tan, asin, acos,
 // atan, sinh, cosh, tanh, exp, log, sqrt, abs. Numbers: decimal with optional exponent (1e-3).
 #include <Eigen/Core>
-
 #include <functional>
 #include <string>
 

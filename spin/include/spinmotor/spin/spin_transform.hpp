@@ -14,8 +14,8 @@
 //
 // Eigenproblems (SpinEigenProblem):
 //   Standard     (AV)*(AV) λ̂ = γ λ̂, λ = V λ̂, V = M_V^{-1/2} rescaled to mean 1          (eq. 7; default)
-//   Generalized  A*A λ = γ B*A λ, the eigenvalue of smallest |γ|                            (eq. 6; closed meshes)
-//   Unweighted   A*A λ = γ λ: what the SpinXForm reference code iterates on (no M_V; this
+//   Generalized  A*A λ = γ B*A λ, the eigenvalue of smallest |γ|                            (eq. 6; closed
+//   meshes) Unweighted   A*A λ = γ λ: what the SpinXForm reference code iterates on (no M_V; this
 //                matched bumpy_reference.obj, see tests/test_spin.cpp)
 // The smallest eigenpair is found by inverse iteration on ONE factorization of the left-hand side
 // (plus a relative shift of 1e-8 of its mean diagonal, so that the ρ = 0 case, whose kernel is the
@@ -74,12 +74,12 @@ struct SpinTransformOptions {
   /// Baseline only: leave the vertices in input order and let CHOLMOD order the 4n×4n matrix itself
   /// with `ordering` (what a generic sparse Cholesky does); slower, kept for the benchmarks.
   bool order_full_matrix = false;
-  bool supernodal = true;                         ///< CHOLMOD supernodal LLᵀ (else simplicial)
+  bool supernodal = true;  ///< CHOLMOD supernodal LLᵀ (else simplicial)
   /// Factor the complex Hermitian 2n×2n form of the eigen matrix (dirac_assembly.hpp) instead of the
   /// real 4n×4n one: same eigenpairs, ~3× faster factorization. Ignored (real form) with boundary
   /// tangents, whose reduced unknowns are not a complex subspace.
   bool complex_form = true;
-  SpinBoundaryTangents boundary;                  ///< empty: natural boundary conditions
+  SpinBoundaryTangents boundary;  ///< empty: natural boundary conditions
 
   /// The reference code's settings: Unweighted problem, exactly 3 inverse iterations from the
   /// all-ones real quaternions, output centred with max |v| = 1 (the last vertex is always pinned).
@@ -95,13 +95,13 @@ struct SpinTransformOptions {
 
 /// Timings in milliseconds (wall clock).
 struct SpinTimings {
-  double bind = 0;      ///< constructor: validation, geometry, ordering, symbolic analysis
+  double bind = 0;           ///< constructor: validation, geometry, ordering, symbolic analysis
   double poisson_setup = 0;  ///< cotangent Laplacian + its factor, on the bind's second thread (overlapped)
-  double assembly = 0;  ///< A*A (and B*A) for this ρ
-  double factor = 0;    ///< numeric Cholesky factorization
-  double eigen = 0;     ///< inverse iterations
-  double poisson = 0;   ///< waiting for poisson_setup (first solve only), transformed edges, divergence,
-                        ///< solve, normalisation
+  double assembly = 0;       ///< A*A (and B*A) for this ρ
+  double factor = 0;         ///< numeric Cholesky factorization
+  double eigen = 0;          ///< inverse iterations
+  double poisson = 0;        ///< waiting for poisson_setup (first solve only), transformed edges, divergence,
+                             ///< solve, normalisation
   double solve_total() const { return assembly + factor + eigen + poisson; }
 };
 
@@ -112,13 +112,13 @@ struct SpinTransformResult {
   /// eq. 7 with the mean-1 rescaling undone (Standard; it approximates the square of the shift γ of
   /// eq. 4, units 1/length²); γ of A*A λ = γ λ (Unweighted).
   double eigenvalue = 0;
-  int iterations = 0;      ///< inverse iterations performed
-  double residual = 0;     ///< eigen-residual after the last iteration
+  int iterations = 0;   ///< inverse iterations performed
+  double residual = 0;  ///< eigen-residual after the last iteration
   SpinTimings timings;
 };
 
 class SpinTransform {
-public:
+ public:
   /// Bind. Inputs: mesh (V n×3, F m×3 counter-clockwise; UV unused), options. The mesh must be a
   /// connected, oriented manifold with no degenerate faces, no unreferenced and no non-finite
   /// vertices (Error naming the first offender); the Generalized problem needs a closed mesh; boundary
@@ -150,17 +150,19 @@ public:
   /// Nonzeros of the Cholesky factor of the eigen matrix (predicted by the symbolic analysis).
   double factor_nonzeros() const;
 
-private:
+ private:
   SpinTransformResult solve_impl(const Eigen::VectorXd& rho, bool reconstruct_positions);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 
 /// One-shot: SpinTransform(mesh, options).solve(rho).
-SpinTransformResult spin_transform(const Mesh& mesh, const Eigen::VectorXd& rho, const SpinTransformOptions& options = {});
+SpinTransformResult spin_transform(const Mesh& mesh, const Eigen::VectorXd& rho,
+                                   const SpinTransformOptions& options = {});
 
 /// Similarity field → transformed edge vectors, eq. 8. Inputs: V (n×3), E (k×2 edges), lambda (n×4).
 /// Output: k×3, row e = ẽ for the edge from E(e,0) to E(e,1).
-Eigen::MatrixXd transformed_edges(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E, const Eigen::MatrixXd& lambda);
+Eigen::MatrixXd transformed_edges(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
+                                  const Eigen::MatrixXd& lambda);
 
 }  // namespace spinmotor

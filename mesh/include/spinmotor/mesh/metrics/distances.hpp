@@ -5,6 +5,7 @@
 // patterns", eqs. 40–42).
 #include <Eigen/Core>
 #include <string>
+
 #include "spinmotor/core/option_names.hpp"
 
 namespace spinmotor {

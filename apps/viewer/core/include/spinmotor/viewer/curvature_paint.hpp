@@ -20,8 +20,8 @@ namespace spinmotor::viewer {
 /// ρ_f += amount · (1 − (d/radius)²)², a bump that falls to zero with zero slope at the rim.
 /// `amount` has units 1/length (ρ is a curvature). Returns the number of faces touched.
 /// Error for a wrong ρ size or a radius that is not positive and finite.
-int paint_rho(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::Vector3d& centre, double radius,
-              double amount, Eigen::VectorXd& rho);
+int paint_rho(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::Vector3d& centre,
+              double radius, double amount, Eigen::VectorXd& rho);
 
 struct PaintOutcome {
   std::uint64_t generation = 0;

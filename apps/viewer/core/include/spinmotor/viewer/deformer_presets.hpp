@@ -38,7 +38,7 @@ struct DeformerOption {
   enum class Kind { Choice, Integer, Number, Boolean, Integers3, Handle };
   std::string key;
   Kind kind = Kind::Choice;
-  std::vector<std::string> choices;  ///< Choice: the schema's enum; Handle: the handle names
+  std::vector<std::string> choices;          ///< Choice: the schema's enum; Handle: the handle names
   double minimum = -1e300, maximum = 1e300;  ///< Integer, Number, Integers3 (per item)
 };
 
@@ -46,6 +46,7 @@ struct DeformerOption {
 /// the scene schema (definitions/deformer_<type>, so a key added there appears here): enums,
 /// integers, numbers, booleans, arrays of 3 integers (the FFD lattice), and `from`/`to` as handle
 /// choices. Other keys (paths, key lists, fit, box) are edited as JSON text. Error for an unknown type.
-std::vector<DeformerOption> deformer_options(const std::string& type, const std::vector<std::string>& handle_names);
+std::vector<DeformerOption> deformer_options(const std::string& type,
+                                             const std::vector<std::string>& handle_names);
 
 }  // namespace spinmotor::viewer

@@ -91,7 +91,8 @@ class LatestJobWorker {
   /// Blocks until nothing is queued or running (tests, headless mode). False on timeout.
   bool wait_idle(double timeout_s) {
     std::unique_lock lock(mutex_);
-    return idle_cv_.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] { return !running_ && !queued_; });
+    return idle_cv_.wait_for(lock, std::chrono::duration<double>(timeout_s),
+                             [&] { return !running_ && !queued_; });
   }
   /// Results dropped as stale so far.
   std::uint64_t discarded() const {

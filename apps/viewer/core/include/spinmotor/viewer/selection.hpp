@@ -20,8 +20,8 @@ namespace spinmotor::viewer {
 class DepthMap {
  public:
   /// Inputs: V n×3 (the positions shown), F m×3, camera, view size in pixels (> 0).
-  static DepthMap render(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const render::OrbitCamera& camera,
-                         int width, int height);
+  static DepthMap render(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                         const render::OrbitCamera& camera, int width, int height);
   int width() const { return width_; }
   int height() const { return height_; }
   /// Depth of the nearest surface at pixel (x, y) (clamped to the image), +inf for background.
@@ -42,13 +42,15 @@ bool point_in_polygon(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2
 /// Vertices (ascending) whose projection lies in the pixel rectangle spanned by corners a and b (any
 /// two opposite corners) and in front of the eye; with `depth`, only those not hidden by the surface
 /// (tolerance 0.2% of the camera distance).
-std::vector<int> vertices_in_box(const Eigen::MatrixXd& V, const render::OrbitCamera& camera, int width, int height,
-                                 const Eigen::Vector2d& a, const Eigen::Vector2d& b, const DepthMap* depth = nullptr);
+std::vector<int> vertices_in_box(const Eigen::MatrixXd& V, const render::OrbitCamera& camera, int width,
+                                 int height, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                 const DepthMap* depth = nullptr);
 
 /// Vertices (ascending) whose projection lies inside the lasso polygon (pixels, ≥ 3 points; fewer
 /// select nothing); `depth` as in vertices_in_box.
-std::vector<int> vertices_in_lasso(const Eigen::MatrixXd& V, const render::OrbitCamera& camera, int width, int height,
-                                   const std::vector<Eigen::Vector2d>& lasso, const DepthMap* depth = nullptr);
+std::vector<int> vertices_in_lasso(const Eigen::MatrixXd& V, const render::OrbitCamera& camera, int width,
+                                   int height, const std::vector<Eigen::Vector2d>& lasso,
+                                   const DepthMap* depth = nullptr);
 
 /// Set operations on ascending index lists, for add (shift) / subtract (ctrl) selection.
 std::vector<int> selection_union(const std::vector<int>& a, const std::vector<int>& b);

@@ -6,12 +6,12 @@
 //   s.set_motor("tip", m);  s.commit_pose();    // an edit (one undo step per commit)
 //   const Eigen::MatrixXd& V = s.posed();       // the deformer's pose() for the current pose
 //   s.save_scene("edited.json");                // same JSON, the pose replaced by the current one
-#include <algorithm>
 #include <Eigen/Core>
+#include <algorithm>
 #include <filesystem>
 #include <memory>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,7 +40,8 @@ class Session {
   /// Every handle's vertices (sorted): the pins of the pose-keeping cleanup ("keep the pose").
   std::vector<int> handle_vertices() const {
     std::vector<int> v;
-    for (const Handle& h : scene_->handles) v.insert(v.end(), h.vertices.data(), h.vertices.data() + h.vertices.size());
+    for (const Handle& h : scene_->handles)
+      v.insert(v.end(), h.vertices.data(), h.vertices.data() + h.vertices.size());
     std::sort(v.begin(), v.end());
     return v;
   }

@@ -18,10 +18,10 @@ namespace spinmotor::viewer {
 
 struct SnapOutcome {
   std::uint64_t generation = 0;
-  Eigen::MatrixXd V;   ///< snapped positions (empty on error)
-  Eigen::VectorXd Q;   ///< per-face quasi-conformal error of the snap against the rest mesh
-  double q_mean = 0;   ///< rest-area weighted
-  double bind_ms = 0;  ///< ConformalSnap or PinnedCleanup bind (when this request bound one, else 0)
+  Eigen::MatrixXd V;          ///< snapped positions (empty on error)
+  Eigen::VectorXd Q;          ///< per-face quasi-conformal error of the snap against the rest mesh
+  double q_mean = 0;          ///< rest-area weighted
+  double bind_ms = 0;         ///< ConformalSnap or PinnedCleanup bind (when this request bound one, else 0)
   bool pinned = false;        ///< the pose-keeping cleanup ran (the request had pins)
   double volume_ratio = 1.0;  ///< pinned: kept volume (closed) or area (open) / rest
   double snap_ms = 0;
