@@ -780,6 +780,9 @@ GltfRig read_gltf(const std::filesystem::path& path) {
               g.values.row(k).norm() < 1e-6)
             rd.fail("accessor " + std::to_string(s.output) + " (output of " + slabel + "): key " +
                     std::to_string(k) + " is the zero quaternion");
+      // LINEAR and STEP rotation keys are unit quaternions by the spec: normalise the float32 values so
+      // that slerp measures the true angle (a CUBICSPLINE's values and tangents stay as stored).
+      if (rot && g.interpolation != GltfInterpolation::CubicSpline) g.values.rowwise().normalize();
       anim.start = std::min(anim.start, g.times[0]);
       anim.end = std::max(anim.end, g.times[g.times.size() - 1]);
       anim.channels.push_back(std::move(g));

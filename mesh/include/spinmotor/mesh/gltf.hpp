@@ -100,8 +100,8 @@ struct GltfChannel {
   GltfPath path = GltfPath::Translation;
   GltfInterpolation interpolation = GltfInterpolation::Linear;
   Eigen::VectorXd times;  ///< k key times in seconds, strictly increasing
-  /// k×c values (c = 3, rotations c = 4 as x y z w); CUBICSPLINE: 3k×c, per key in-tangent, value,
-  /// out-tangent (the file's layout).
+  /// k×c values (c = 3, rotations c = 4 as x y z w, normalised for LINEAR and STEP); CUBICSPLINE:
+  /// 3k×c, per key in-tangent, value, out-tangent (the file's layout).
   Eigen::MatrixXd values;
 
   /// The value at time t, clamped to [times(0), times(k−1)] (glTF spec, Appendix C "Interpolation").
