@@ -97,6 +97,15 @@ struct Tiny {
         {{"bufferView", bv}, {"componentType", 5126}, {"count", v.size() / comps}, {"type", type}});
     return static_cast<int>(j["accessors"].size()) - 1;
   }
+  int ubytes(const std::vector<uint8_t>& v, const std::string& type, size_t comps, bool normalized) {
+    const int bv = view(v.data(), v.size());
+    j["accessors"].push_back({{"bufferView", bv},
+                              {"componentType", 5121},
+                              {"count", v.size() / comps},
+                              {"type", type},
+                              {"normalized", normalized}});
+    return static_cast<int>(j["accessors"].size()) - 1;
+  }
   int ushorts(const std::vector<uint16_t>& v, const std::string& type, size_t comps) {
     const int bv = view(v.data(), v.size() * 2);
     j["accessors"].push_back(
@@ -274,6 +283,78 @@ TEST_CASE("gltf tiny rig: welding, per-corner UVs, renormalised weights, inverse
   }
 }
 
+TEST_CASE(
+    "gltf variants: two primitives, byte weights, JOINTS_1, sparse accessors, no inverse bind matrices") {
+  Scratch s;
+  const fs::path p0 = s.dir / "bar.gltf";
+  bar_rig().write_embedded(p0);
+  const GltfRig ref = spinmotor::read_gltf(p0);
+  const Eigen::MatrixXd ref_bend = spinmotor::skin_positions(ref, 0, 0.5);
+  auto variant = [&](const char* name, const std::function<void(Tiny&)>& edit) {
+    Tiny t = bar_rig();
+    edit(t);
+    const fs::path p = s.dir / name;
+    t.write_embedded(p);
+    return spinmotor::read_gltf(p);
+  };
+  auto prim = [](Tiny& t) -> json& { return t.j["meshes"][0]["primitives"][0]; };
+
+  // Two primitives (one quad each) over the same attributes: 14 file vertices weld into the same 6.
+  const GltfRig two = variant("two.gltf", [&](Tiny& t) {
+    json second = prim(t);
+    second["indices"] = t.ushorts({4, 5, 6, 4, 6, 3}, "SCALAR", 1);
+    prim(t)["indices"] = t.ushorts({0, 1, 3, 0, 3, 2}, "SCALAR", 1);
+    t.j["meshes"][0]["primitives"].push_back(second);
+  });
+  CHECK(two.file_vertices == 14);
+  CHECK(two.mesh.V == ref.mesh.V);
+  CHECK(two.mesh.F == ref.mesh.F);
+  CHECK(two.mesh.FUV.bottomRows(2).minCoeff() >= 7);  // the second primitive's corners, UVs per file vertex
+  CHECK(two.renormalised_rows == 2);
+  CHECK((spinmotor::skin_positions(two, 0, 0.5) - ref_bend).cwiseAbs().maxCoeff() < 1e-15);
+
+  // Normalised unsigned byte weights and byte joints; vertex 0's weight split over WEIGHTS_0 and WEIGHTS_1.
+  const GltfRig bytes = variant("bytes.gltf", [&](Tiny& t) {
+    const std::vector<uint8_t> j = {0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1,
+                                    0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0};
+    const std::vector<uint8_t> w = {51, 0, 0,   0,   128, 128, 0, 0,   255, 0, 0, 0,   64, 64,
+                                    0,  0, 128, 128, 0,   0,   0, 255, 0,   0, 0, 255, 0,  0};
+    std::vector<uint8_t> j1(28, 0), w1(28, 0);
+    w1[0] = 204;  // vertex 0: 51/255 + 204/255 = 1 on joint 0
+    prim(t)["attributes"]["JOINTS_0"] = t.ubytes(j, "VEC4", 4, false);
+    prim(t)["attributes"]["WEIGHTS_0"] = t.ubytes(w, "VEC4", 4, true);
+    prim(t)["attributes"]["JOINTS_1"] = t.ubytes(j1, "VEC4", 4, false);
+    prim(t)["attributes"]["WEIGHTS_1"] = t.ubytes(w1, "VEC4", 4, true);
+  });
+  CHECK(Eigen::MatrixXd(bytes.weights).isApprox(Eigen::MatrixXd(ref.weights), 1e-15));
+  CHECK(bytes.renormalised_rows == 3);  // 128/255 · 2 and 64/255 · 2 are off 1 by more than 1e-5
+  CHECK(bytes.min_weight_sum == Approx(128.0 / 255));
+
+  // A sparse accessor replaces the UV of file vertex 2 (glTF (0, 1) -> (0.25, 0.75)).
+  const GltfRig sparse = variant("sparse.gltf", [&](Tiny& t) {
+    const std::vector<uint16_t> idx = {2, 0};  // one index (padded to 4 bytes)
+    const std::vector<float> val = {0.25f, 0.75f};
+    const int iv = t.view(idx.data(), 2), vv = t.view(val.data(), 8);
+    t.j["accessors"][1]["sparse"] = {{"count", 1},
+                                     {"indices", {{"bufferView", iv}, {"componentType", 5123}}},
+                                     {"values", {{"bufferView", vv}}}};
+  });
+  CHECK(sparse.mesh.UV.row(2).isApprox(Eigen::RowVector2d(0.25, 0.25)));
+  CHECK(sparse.mesh.UV.row(1) == ref.mesh.UV.row(1));
+
+  // Without inverseBindMatrices every IBM is the identity (spec): at rest the tip's translation moves
+  // the vertices it carries by (1, 0, 0).
+  const GltfRig noibm = variant("noibm.gltf", [](Tiny& t) { t.j["skins"][0].erase("inverseBindMatrices"); });
+  CHECK(noibm.inverse_bind[1] == Eigen::Matrix4d::Identity());
+  CHECK(spinmotor::skin_positions(noibm, -1, 0.0).row(noibm.file_to_surface[5]).isApprox(row(3, 0, 0)));
+
+  // A non-uniform scale above both the mesh node and the joints cancels in W_mesh⁻¹ W_j.
+  const GltfRig scaled_root = variant("root.gltf", [](Tiny& t) { t.j["nodes"][0]["scale"] = {1, 2, 1}; });
+  CHECK((spinmotor::skin_positions(scaled_root, 0, 0.5) - ref_bend).cwiseAbs().maxCoeff() < 1e-12);
+  CHECK(spinmotor::rig_pose_motors(scaled_root, 0, 0.5).size() == 2);
+  CHECK(spinmotor::joint_world_matrices(scaled_root, -1, 0)[1](1, 1) == 2.0);
+}
+
 TEST_CASE("gltf sampling: LINEAR slerp, STEP, CUBICSPLINE and clamping in closed form") {
   Scratch s;
   const fs::path p = s.dir / "bar.gltf";
@@ -379,7 +460,8 @@ TEST_CASE("gltf reader errors name the file and the element") {
   nan.nan_at_x = std::nanf("");
   expect_error(broken([](Tiny&) {}, nan), {"accessor 0", "POSITION", "element 2", "not finite"});
   expect_error(broken([](Tiny& t) { t.j["nodes"][2]["scale"] = {1, 2, 1}; }), {"'tip'", "not uniform"});
-  expect_error(broken([](Tiny& t) { t.j["nodes"][0]["scale"] = {-1, -1, -1}; }), {"'root'", "scale"});
+  expect_error(broken([](Tiny& t) { t.j["nodes"][1]["scale"] = {-1, -1, -1}; }), {"'base'", "scale"});
+  expect_error(broken([](Tiny& t) { t.j["nodes"][3]["scale"] = {1, 1, 3}; }), {"'body'", "not uniform"});
   expect_error(broken([](Tiny& t) {
                  const int out = t.floats({1, 1, 1, 1, 3, 1}, "VEC3", 3);
                  t.j["animations"][0]["samplers"].push_back({{"input", 6}, {"output", out}});

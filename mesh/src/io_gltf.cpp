@@ -794,13 +794,13 @@ GltfRig read_gltf(const std::filesystem::path& path) {
     rig.animations.push_back(std::move(anim));
   }
 
-  // ---- scale: joints, the mesh node and their ancestors must be similarities
+  // ---- scale: the joints and the mesh node must be similarities (rest and animated). Other nodes are
+  // free: a transform common to the mesh node and the joints (a scene root's axis change or scale)
+  // cancels in W_mesh⁻¹ W_j; one between them shows up in the joint rest transforms below (Error naming
+  // the joint) or, if animated, in skinning_motors / rig_pose_motors (Error naming the joint and time).
   std::vector<bool> relevant(N, false);
-  auto mark = [&](int i) {
-    for (; i >= 0 && !relevant[i]; i = rig.nodes[i].parent) relevant[i] = true;
-  };
-  mark(rig.mesh_node);
-  for (int j : rig.joint_nodes) mark(j);
+  relevant[rig.mesh_node] = true;
+  for (int j : rig.joint_nodes) relevant[j] = true;
   for (int i = 0; i < N; ++i) {
     if (!relevant[i]) continue;
     const GltfNode& g = rig.nodes[i];

@@ -41,11 +41,14 @@
 //     the right type and count. `weights` channels (morph targets) are skipped with a warning; a
 //     channel on a node given by `matrix` is an error (the spec forbids it).
 //   - scale: the motor representation (ScaledMotor) holds rigid motions with a uniform scale. A
-//     joint, the mesh node or any of their ancestors whose scale (rest or animated) is non-uniform by
-//     more than kGltfScaleTolerance (relative), or negative, or whose `matrix` is not a similarity, is
-//     an error naming the node. Uniform scales — and the float noise of exporters (0.9999998) — are
-//     kept exactly in the 4×4 matrices and folded into ScaledMotor::scale (cube root of the
-//     determinant) in the motor representation.
+//     joint or the mesh node whose scale (rest or any animation key) is non-uniform by more than
+//     kGltfScaleTolerance (relative), or not positive, or whose `matrix` is not a similarity, is an
+//     error naming the node. Other nodes may scale freely: a transform common to the mesh node and
+//     the joints (a root's axis change) cancels in W_mesh⁻¹ W_j; one in between makes a joint's rest
+//     transform non-similar (error naming the joint) or, animated, a skinning transform (error from
+//     skinning_motors / rig_pose_motors naming the joint and the time). Uniform scales — and the
+//     float noise of exporters (0.9999998) — are kept exactly in the 4×4 matrices and folded into
+//     ScaledMotor::scale (cube root of the determinant) in the motor representation.
 //   - rejected: no skinned mesh node, extensionsRequired (Draco, quantisation, ...), NaN/Inf in any
 //     accessor read, an inverse bind matrix whose last row is not (0 0 0 1), fewer inverse bind
 //     matrices than joints, a joint listed twice.
