@@ -2,7 +2,8 @@
 //   rig info FILE [--json]      joints, welded vertex count, renormalised weights, animations
 //   rig pose FILE (--time T | --frames N) [--animation I] [--blend lbs|dlb|log|pivot-log] --out PATH
 //       posed meshes: one file at PATH (--time), or PATH's stem + ".0000", ".0001", ... (--frames);
-//       a .gltf/.glb PATH holds all frames as morph targets driven by a STEP weights animation.
+//       a .gltf/.glb PATH holds all frames as morph targets driven by a STEP weights animation;
+//       [--space mesh|scene]: positions in the file's mesh space (default) or placed in its scene.
 // Bad input (unreadable rig, bad option, scaling joint for a motor blend) exits 2 before anything is
 // written; frame sequences are staged in a hidden folder and moved into place only when all are written.
 #include <unistd.h>
@@ -34,6 +35,7 @@ struct RigArgs {
   std::string blend = "lbs";
   std::string out;
   std::string cleanup = "none";
+  std::string space = "mesh";
 };
 
 std::string lower(std::string s) {
@@ -157,9 +159,22 @@ void run_pose(const RigArgs& a) {
     cleanup_frame(a.cleanup, rig, frames[f]);
   }
 
+  // --space scene: the mesh node's global matrix places the result as in the file's scene (for the
+  // Khronos samples: their Z-up -> Y-up root). Mesh files get W_mesh(t) applied to the positions, a
+  // glTF the rest W_mesh as its node matrix.
+  const bool scene_space = a.space == "scene";
+  if (scene_space && !gltf_out)
+    for (int f = 0; f < n; ++f) {
+      const Eigen::Matrix4d w = spinmotor::node_world_matrices(rig, a.animation, times[f])[rig.mesh_node];
+      frames[f] =
+          ((frames[f] * w.topLeftCorner<3, 3>().transpose()).rowwise() + w.topRightCorner<3, 1>().transpose())
+              .eval();
+    }
   std::vector<fs::path> written;
   if (gltf_out) {
-    spinmotor::write_gltf_morph_animation(out, rig.mesh, frames, times, out.stem().string());
+    const Eigen::Matrix4d node = scene_space ? spinmotor::node_world_matrices(rig, -1, 0.0)[rig.mesh_node]
+                                             : Eigen::Matrix4d::Identity();
+    spinmotor::write_gltf_morph_animation(out, rig.mesh, frames, times, out.stem().string(), node);
     written.push_back(out);
   } else if (by_time) {
     spinmotor::Mesh m = rig.mesh;
@@ -229,6 +244,11 @@ const spinmotor::cli::RegisterCommand reg{
               "Output: .obj/.ply/.off/.stl (with --frames: out/frame.obj -> out/frame.0000.obj ...), or "
               ".gltf/.glb (all frames as morph targets)")
           ->required();
+      pose->add_option(
+              "--space", a->space,
+              "Output coordinates: mesh (the file's POSITION frame, default) or scene (the mesh node's "
+              "global matrix applied, e.g. Y-up for the Khronos samples)")
+          ->check(CLI::IsMember({"mesh", "scene"}));
       // `--cleanup pinned` is to be wired in cleanup_frame() above.
       pose->add_option("--cleanup", a->cleanup, "Post-skinning cleanup of each frame (none)")
           ->check(CLI::IsMember({"none"}));

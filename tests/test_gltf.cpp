@@ -505,7 +505,9 @@ TEST_CASE("gltf baked output: morph targets and a STEP weights animation read ba
   for (const char* name : {"baked.gltf", "baked.glb"}) {
     INFO(name);
     const fs::path out = s.dir / name;
-    spinmotor::write_gltf_morph_animation(out, rig.mesh, frames, times);
+    Eigen::Matrix4d place = Eigen::Matrix4d::Identity();
+    place(2, 3) = 5.0;
+    spinmotor::write_gltf_morph_animation(out, rig.mesh, frames, times, "bar baked", place);
     tinygltf::TinyGLTF loader;
     tinygltf::Model m;
     std::string err, warn;
@@ -554,6 +556,14 @@ TEST_CASE("gltf baked output: morph targets and a STEP weights animation read ba
     CHECK(an.channels[0].target_path == "weights");
     CHECK(an.channels[0].target_node == 0);
     CHECK(m.nodes[0].mesh == 0);
+    CHECK(m.nodes[0].name == "bar baked");
+    REQUIRE(m.nodes[0].matrix.size() == 16);
+    CHECK(m.nodes[0].matrix[14] == 5.0);  // column-major translation z
+    const tinygltf::Value& names = m.meshes[0].extras.Get("targetNames");
+    REQUIRE(names.IsArray());
+    CHECK(names.ArrayLen() == 3);
+    CHECK(names.Get(2).Get<std::string>() == "frame 0002");
+    CHECK(m.meshes[0].weights == std::vector<double>{1, 0, 0});
     CHECK(floats(an.samplers[0].input) == std::vector<float>{0.0f, 0.5f, 1.0f});
     CHECK(floats(an.samplers[0].output) == std::vector<float>{1, 0, 0, 0, 1, 0, 0, 0, 1});
   }
@@ -596,6 +606,15 @@ TEST_CASE("spinmotor rig info and pose on the tiny rig, bad input exits 2 and wr
       tmp.path, "rig pose " + tmp.file("bar.gltf") + " --time 0.5 --out " + tmp.file("one.ply"));
   CHECK(r.code == 0);
   CHECK(spinmotor::read_mesh(tmp.path / "one.ply").V.rows() == 6);
+
+  // --space scene applies the mesh node's global matrix (here the root's translation (0, 0, 5)).
+  Tiny lifted = bar_rig();
+  lifted.j["nodes"][0]["translation"] = {0, 0, 5};
+  lifted.write_embedded(tmp.path / "lifted.gltf");
+  r = spinmotor_test::run_cli(tmp.path, "rig pose " + tmp.file("lifted.gltf") +
+                                            " --time 1 --space scene --out " + tmp.file("lifted.obj"));
+  REQUIRE(r.code == 0);
+  CHECK(spinmotor::read_mesh(tmp.path / "lifted.obj").V.row(4).isApprox(row(1, 1, 5), 1e-9));
 
   // Bad input: nothing written.
   std::ofstream(tmp.path / "junk.gltf") << "{";
@@ -918,5 +937,8 @@ TEST_CASE("spinmotor rig on CesiumMan: info numbers and a baked glb") {
   std::string err, warn;
   REQUIRE(loader.LoadBinaryFromFile(&m, &err, &warn, (tmp.path / "baked.glb").string()));
   CHECK(m.meshes[0].primitives[0].targets.size() == 5);
+  CHECK(m.accessors[m.meshes[0].primitives[0].attributes.at("POSITION")].count ==
+        3273);                       // re-split at UV seams
+  CHECK(m.nodes[0].matrix.empty());  // --space mesh (default)
   CHECK(m.animations[0].samplers[0].interpolation == "STEP");
 }

@@ -9,6 +9,7 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <sstream>
@@ -950,7 +951,7 @@ Eigen::MatrixXd skin_positions(const GltfRig& rig, int anim, double t) {
 
 void write_gltf_morph_animation(const std::filesystem::path& path, const Mesh& rest,
                                 const std::vector<Eigen::MatrixXd>& frames, const std::vector<double>& times,
-                                const std::string& name) {
+                                const std::string& name, const Eigen::Matrix4d& node_matrix) {
   const std::string file = path.string();
   const std::string ext = lower_ext(path);
   if (ext != ".gltf" && ext != ".glb") throw Error(file + ": not a glTF file name (expected .gltf or .glb)");
@@ -958,6 +959,9 @@ void write_gltf_morph_animation(const std::filesystem::path& path, const Mesh& r
   if (n == 0 || m == 0 || rest.V.cols() != 3 || rest.F.cols() != 3)
     throw Error(file + ": the rest mesh is empty or malformed");
   if (frames.empty()) throw Error(file + ": no frames to write");
+  if (!node_matrix.allFinite() ||
+      (node_matrix.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-9)
+    throw Error(file + ": the node matrix is not a finite affine matrix");
   if (frames.size() != times.size())
     throw Error(file + ": " + std::to_string(frames.size()) + " frames but " + std::to_string(times.size()) +
                 " times");
@@ -1068,10 +1072,23 @@ void write_gltf_morph_animation(const std::filesystem::path& path, const Mesh& r
   mesh.primitives.push_back(prim);
   mesh.weights.assign(nframes, 0.0);
   mesh.weights[0] = 1.0;
+  {
+    tinygltf::Value::Array names;
+    for (size_t f = 0; f < nframes; ++f) {
+      char b[32];
+      std::snprintf(b, sizeof b, "frame %04zu", f);
+      names.emplace_back(std::string(b));
+    }
+    tinygltf::Value::Object extras;
+    extras["targetNames"] = tinygltf::Value(std::move(names));
+    mesh.extras = tinygltf::Value(std::move(extras));
+  }
   model.meshes.push_back(mesh);
   tinygltf::Node node;
   node.name = name;
   node.mesh = 0;
+  if (!node_matrix.isIdentity(0.0))
+    node.matrix.assign(node_matrix.data(), node_matrix.data() + 16);  // column-major
   model.nodes.push_back(node);
   tinygltf::Scene scene;
   scene.nodes = {0};

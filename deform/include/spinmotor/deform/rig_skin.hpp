@@ -27,7 +27,9 @@ struct RigSkin {
   /// head + the joint's local y axis × its parent's bone length, else 10% of the mesh's bounding-box
   /// diagonal).
   std::vector<Bone> bones;
-  Eigen::SparseMatrix<double> weights;  ///< n×J, rig.weights
+  /// n×J, rig.weights. SkinDeformer keeps the 4 largest weights of a vertex (renormalised), so a rig
+  /// with more influences (JOINTS_1) is skinned with those four; skin_positions() uses all of them.
+  Eigen::SparseMatrix<double> weights;
 };
 
 /// The bones and weights of a rig. Throws Error if the skeleton fails check_skeleton.

@@ -187,10 +187,14 @@ Eigen::MatrixXd skin_positions(const GltfRig& rig, int anim, double t);
 /// one mesh node holding `rest` (UVs, if any, un-welded into glTF vertices at seams and flipped back)
 /// and one morph target per frame (POSITION displacements frames[f] − rest.V), driven by a STEP
 /// `weights` animation that is one-hot on target f from times[f] on. So Blender, three.js, ... play
-/// the baked frames. Sizes: frames[f] n×3, times strictly increasing, as many as frames. Atomic; throws
-/// Error naming the frame for a size mismatch or non-finite entry.
+/// the baked frames (targets named "frame 0000", ... in mesh.extras.targetNames, which Blender uses for
+/// the shape keys). `node_matrix` is the node's matrix (for a rig: the mesh node's rest global matrix,
+/// so the result sits in the scene as the source did; it must be affine). Sizes: frames[f] n×3, times
+/// strictly increasing, as many as frames. Positions are stored as float32. Atomic; throws Error naming
+/// the frame for a size mismatch or non-finite entry.
 void write_gltf_morph_animation(const std::filesystem::path& path, const Mesh& rest,
                                 const std::vector<Eigen::MatrixXd>& frames, const std::vector<double>& times,
-                                const std::string& name = "baked");
+                                const std::string& name = "baked",
+                                const Eigen::Matrix4d& node_matrix = Eigen::Matrix4d::Identity());
 
 }  // namespace spinmotor
