@@ -236,8 +236,9 @@ const spinmotor::cli::RegisterCommand reg{
       pose->add_option("--time", a->time, "One frame at time T (seconds; clamped to the animation's range)");
       pose->add_option("--frames", a->frames, "N frames evenly over the animation (first to last key time)");
       pose->add_option("--animation", a->animation, "Animation index (default 0)");
-      pose->add_option("--blend", a->blend,
-                       "Skinning blend: lbs, dlb (dual quaternion / motor linear), log, pivot-log")
+      pose->add_option(
+              "--blend", a->blend,
+              "Skinning blend (default lbs): lbs, dlb (dual quaternion / motor linear), log, pivot-log")
           ->check(CLI::IsMember({"lbs", "dlb", "log", "pivot-log"}));
       pose->add_option(
               "--out", a->out,
@@ -253,12 +254,17 @@ const spinmotor::cli::RegisterCommand reg{
       pose->add_option("--cleanup", a->cleanup, "Post-skinning cleanup of each frame (none)")
           ->check(CLI::IsMember({"none"}));
       pose->callback([a] { run_pose(*a); });
-      sub.footer(
+      const std::string examples =
           "Examples:\n"
           "  spinmotor rig info ../shared/rigs/CesiumMan.gltf --json\n"
           "  spinmotor rig pose ../shared/rigs/RiggedFigure.gltf --frames 24 --blend dlb --out "
           "out/frame.obj\n"
-          "  spinmotor rig pose ../shared/rigs/CesiumMan.gltf --frames 49 --out out/baked.glb");
+          "  spinmotor rig pose ../shared/rigs/CesiumMan.gltf --time 1.2 --space scene --out posed.ply\n"
+          "  spinmotor rig pose ../shared/rigs/CesiumMan.gltf --frames 49 --out out/baked.glb  # Blender: "
+          "shape keys";
+      sub.footer(examples);
+      info->footer(examples);
+      pose->footer(examples);
     }};
 
 }  // namespace

@@ -636,6 +636,11 @@ TEST_CASE("spinmotor rig info and pose on the tiny rig, bad input exits 2 and wr
   CHECK(!fs::exists(tmp.path / "bad"));
   r = spinmotor_test::run_cli(tmp.path, "rig info " + tmp.file("missing.gltf"));
   CHECK(r.code == 2);
+  for (const char* help : {"rig --help", "rig info --help", "rig pose --help"}) {
+    r = spinmotor_test::run_cli(tmp.path, help);
+    CHECK(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("Examples") && Catch::Contains("spinmotor rig pose"));
+  }
 }
 
 // ---- the shared rigs against an independent evaluation ---------------------------------------------
