@@ -348,6 +348,19 @@ TEST_CASE(
   CHECK(noibm.inverse_bind[1] == Eigen::Matrix4d::Identity());
   CHECK(spinmotor::skin_positions(noibm, -1, 0.0).row(noibm.file_to_surface[5]).isApprox(row(3, 0, 0)));
 
+  // A uniform scale on a joint: exact in the matrices, folded into ScaledMotor::scale, refused by the
+  // rigid motor blends (naming the joint).
+  const GltfRig grown = variant("grown.gltf", [](Tiny& t) { t.j["nodes"][2]["scale"] = {2, 2, 2}; });
+  CHECK(spinmotor::skin_positions(grown, -1, 0).row(grown.file_to_surface[5]).isApprox(row(3, 0, 0)));
+  CHECK(spinmotor::skinning_motors(grown, -1, 0)[1].scale == Approx(2.0));
+  CHECK(grown.joint_rest_local[1].scale == Approx(2.0));
+  try {
+    spinmotor::rig_pose_motors(grown, -1, 0);
+    FAIL("no error for a scaling joint");
+  } catch (const Error& e) {
+    CHECK_THAT(e.what(), Catch::Contains("'tip'") && Catch::Contains("scales by 2"));
+  }
+
   // A non-uniform scale above both the mesh node and the joints cancels in W_mesh⁻¹ W_j.
   const GltfRig scaled_root = variant("root.gltf", [](Tiny& t) { t.j["nodes"][0]["scale"] = {1, 2, 1}; });
   CHECK((spinmotor::skin_positions(scaled_root, 0, 0.5) - ref_bend).cwiseAbs().maxCoeff() < 1e-12);
