@@ -153,40 +153,46 @@ void run_pose(const RigArgs& a) {
   std::vector<double> times(n);
   for (int f = 0; f < n; ++f) times[f] = by_time ? a.time : spinmotor::gltf_frame_time(anim, f, n);
   spinmotor::SkinDeformer d = spinmotor::bind_rig(rig, blend);
-  std::vector<Eigen::MatrixXd> frames(n);
-  for (int f = 0; f < n; ++f) {
-    d.pose(spinmotor::rig_pose_motors(rig, a.animation, times[f]), frames[f]);
-    cleanup_frame(a.cleanup, rig, frames[f]);
-  }
-
   // --space scene: the mesh node's global matrix places the result as in the file's scene (for the
   // Khronos samples: their Z-up -> Y-up root). Mesh files get W_mesh(t) applied to the positions, a
   // glTF the rest W_mesh as its node matrix.
   const bool scene_space = a.space == "scene";
-  if (scene_space && !gltf_out)
-    for (int f = 0; f < n; ++f) {
+  auto pose_frame = [&](int f) {
+    Eigen::MatrixXd V;
+    d.pose(spinmotor::rig_pose_motors(rig, a.animation, times[f]), V);
+    cleanup_frame(a.cleanup, rig, V);
+    if (scene_space && !gltf_out) {
       const Eigen::Matrix4d w = spinmotor::node_world_matrices(rig, a.animation, times[f])[rig.mesh_node];
-      frames[f] =
-          ((frames[f] * w.topLeftCorner<3, 3>().transpose()).rowwise() + w.topRightCorner<3, 1>().transpose())
-              .eval();
+      V = ((V * w.topLeftCorner<3, 3>().transpose()).rowwise() + w.topRightCorner<3, 1>().transpose()).eval();
     }
+    return V;
+  };
+
   std::vector<fs::path> written;
   if (gltf_out) {
+    std::vector<Eigen::MatrixXd> frames(n);
+    for (int f = 0; f < n; ++f) frames[f] = pose_frame(f);
     const Eigen::Matrix4d node = scene_space ? spinmotor::node_world_matrices(rig, -1, 0.0)[rig.mesh_node]
                                              : Eigen::Matrix4d::Identity();
     spinmotor::write_gltf_morph_animation(out, rig.mesh, frames, times, out.stem().string(), node);
     written.push_back(out);
   } else if (by_time) {
     spinmotor::Mesh m = rig.mesh;
-    m.V = frames[0];
+    m.V = pose_frame(0);
     spinmotor::write_mesh(out, m);
     written.push_back(out);
   } else {
-    // Stage the whole sequence, then move it into place: an error leaves no frame behind.
+    // Stage the whole sequence in a hidden folder next to the output, frame by frame, then move it into
+    // place: an error (a bad frame, a full disk) leaves no frame behind.
     const fs::path dir = out.parent_path().empty() ? fs::path(".") : out.parent_path();
-    fs::create_directories(dir);
     const fs::path stage = dir / (".spinmotor-rig-" + out.stem().string() + "-" + std::to_string(getpid()));
+    const bool dir_existed = fs::exists(dir);
     std::vector<fs::path> targets;
+    auto discard = [&] {
+      std::error_code ec;
+      fs::remove_all(stage, ec);
+      if (!dir_existed) fs::remove(dir, ec);  // the (empty) folder this run created
+    };
     try {
       fs::create_directories(stage);
       spinmotor::Mesh m = rig.mesh;
@@ -194,19 +200,17 @@ void run_pose(const RigArgs& a) {
         char num[16];
         std::snprintf(num, sizeof num, ".%04d", f);
         const fs::path name = out.stem().string() + num + out.extension().string();
-        m.V = frames[f];
+        m.V = pose_frame(f);
         spinmotor::write_mesh(stage / name, m);
         targets.push_back(name);
       }
       for (const auto& name : targets) fs::rename(stage / name, dir / name);
       fs::remove_all(stage);
     } catch (const fs::filesystem_error& e) {
-      std::error_code ec;
-      fs::remove_all(stage, ec);
+      discard();
       throw Error(std::string("rig pose: cannot write the frames: ") + e.what());
     } catch (...) {
-      std::error_code ec;
-      fs::remove_all(stage, ec);
+      discard();
       throw;
     }
     for (const auto& name : targets) written.push_back(dir / name);

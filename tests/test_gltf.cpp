@@ -639,6 +639,21 @@ TEST_CASE("spinmotor rig info and pose on the tiny rig, bad input exits 2 and wr
     CHECK(r.code == 2);
     CHECK(!fs::exists(tmp.path / "bad"));
   }
+  // A frame that fails mid-sequence (the tip scales by 1.5 at t = 0.5: no rigid motor) leaves nothing.
+  Tiny grow = bar_rig();
+  {
+    const int out = grow.floats({1, 1, 1, 2, 2, 2}, "VEC3", 3);
+    grow.j["animations"].push_back(
+        {{"name", "grow"},
+         {"samplers", json::array({{{"input", 6}, {"output", out}}})},
+         {"channels", json::array({{{"sampler", 0}, {"target", {{"node", 2}, {"path", "scale"}}}}})}});
+  }
+  grow.write_embedded(tmp.path / "grow.gltf");
+  r = spinmotor_test::run_cli(tmp.path, "rig pose " + tmp.file("grow.gltf") +
+                                            " --animation 3 --frames 3 --out " + tmp.file("bad/f.obj"));
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Catch::Contains("'tip'") && Catch::Contains("t = 0.5"));
+  CHECK(!fs::exists(tmp.path / "bad"));
   r = spinmotor_test::run_cli(
       tmp.path, "rig pose " + tmp.file("junk.gltf") + " --frames 2 --out " + tmp.file("bad/f.obj"));
   CHECK(r.code == 2);
@@ -923,7 +938,7 @@ TEST_CASE("gltf shared rigs: DLB, Log and PivotLog approach LBS to second order 
       }
       WARN(file << " blend " << static_cast<int>(b) << ": max |blend − LBS| / diag = " << dist[0]
                 << " (full pose), " << dist[1] << " (ε = 0.1), " << dist[2] << " (ε = 0.05)");
-      CHECK(dist[1] < 2e-3);
+      CHECK(dist[1] < 5e-4);           // measured 4.8e-6 (RiggedFigure), 9.1e-5 (CesiumMan)
       CHECK(dist[2] / dist[1] > 0.2);  // second order: halving ε quarters the distance
       CHECK(dist[2] / dist[1] < 0.3);
     }
