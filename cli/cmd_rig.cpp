@@ -77,6 +77,10 @@ nlohmann::json info_json(const spinmotor::GltfRig& rig) {
                      {"end", a.end},
                      {"duration", a.duration()}});
   j["animations"] = anims;
+  // Bind pose = rest pose? Largest distance of the rest-pose skinning from POSITION, / bbox diagonal.
+  const Eigen::MatrixXd& V = rig.mesh.V;
+  const double diag = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+  j["rest_pose_error"] = (spinmotor::skin_positions(rig, -1, 0.0) - V).rowwise().norm().maxCoeff() / diag;
   j["warnings"] = rig.warnings;
   return j;
 }
@@ -101,6 +105,8 @@ void run_info(const RigArgs& a) {
   std::cout << "\n  weights: max " << j["weights"]["max_influences"] << " influences, "
             << rig.renormalised_rows << " rows renormalised (smallest sum " << rig.min_weight_sum << "), "
             << rig.weld_weight_mismatches << " weld mismatches\n";
+  std::cout << "  rest pose error " << j["rest_pose_error"].get<double>()
+            << " of the diagonal (skinning at the bind pose vs POSITION)\n";
   std::cout << "  animations " << rig.animations.size() << '\n';
   for (size_t k = 0; k < rig.animations.size(); ++k) {
     const auto& an = rig.animations[k];

@@ -603,6 +603,7 @@ TEST_CASE("spinmotor rig info and pose on the tiny rig, bad input exits 2 and wr
   CHECK(j["weights"]["renormalised_rows"] == 1);
   CHECK(j["animations"].size() == 3);
   CHECK(j["animations"][2]["duration"] == 2.0);
+  CHECK(j["rest_pose_error"] == 0.0);
 
   r = spinmotor_test::run_cli(tmp.path, "rig pose " + tmp.file("bar.gltf") +
                                             " --frames 3 --blend dlb --out " + tmp.file("out/f.obj"));
@@ -961,6 +962,7 @@ TEST_CASE("spinmotor rig on CesiumMan: info numbers and a baked glb") {
   CHECK(j["weights"]["renormalised_rows"] == 210);
   CHECK(j["weights"]["max_influences"] == 4);
   CHECK(j["animations"][0]["duration"] == 2.0);
+  CHECK(j["rest_pose_error"].get<double>() < 1e-5);  // README: bind pose = rest pose to 1.0e-6
   r = spinmotor_test::run_cli(
       tmp.path, "rig pose " + file + " --frames 5 --blend pivot-log --out " + tmp.file("baked.glb"));
   INFO(r.err);
