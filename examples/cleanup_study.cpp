@@ -15,7 +15,11 @@
 // (mesh/metrics), enclosed volume / rest volume (divergence theorem), the largest pin displacement
 // relative to the bounding-box diagonal, and the time of the method's per-frame work (bind excluded).
 //
-//   cleanup_study [--out out] [--small] [--check]
+// Rigs (--rigs DIR, the Cesium glTF samples, CC BY 4.0 Cesium): CesiumMan and RiggedFigure at ¼, ½ and ¾
+// of their animation, LBS / DQS / Delta Mush / Direct Delta Mush / the cleanup of LBS with the pins of
+// the rig (weight ≥ 0.999, default margin: a quarter of the widest joint blend band).
+//
+//   cleanup_study [--out out] [--small] [--check] [--rigs DIR]
 //
 // Prints one markdown table and writes out/cleanup_study.json. --small uses coarser meshes (the ctest
 // size). --check asserts the cleanup's required figures at 90° (pins exact to 1e-9 of the diagonal,
@@ -37,9 +41,11 @@
 #include "spinmotor/deform/delta_mush.hpp"
 #include "spinmotor/deform/direct_delta_mush.hpp"
 #include "spinmotor/deform/rig_pins.hpp"
+#include "spinmotor/deform/rig_skin.hpp"
 #include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/generators.hpp"
+#include "spinmotor/mesh/gltf.hpp"
 #include "spinmotor/mesh/metrics/deformation_metrics.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
 #include "spinmotor/spin/pinned_cleanup.hpp"
@@ -165,6 +171,42 @@ void sausage_study(bool small, std::vector<Row>& rows) {
   rows.push_back(measure("sausage bend 90", "pose-keeping cleanup", s, V, bent, pins, ms));
 }
 
+void rig_study(const std::filesystem::path& dir, std::vector<Row>& rows) {
+  for (const char* file : {"RiggedFigure.gltf", "CesiumMan.gltf"}) {
+    const GltfRig rig = read_gltf(dir / file);
+    const RigSkin skin = rig_skin(rig);
+    const Eigen::MatrixXd W(skin.weights);
+    const Mesh& rest = rig.mesh;
+    const Eigen::VectorXi pins =
+        pins_from_weights(rest.V, W, 0.999, default_pin_margin(rest.V, W, skin.bones, 0.999));
+    SkinDeformer lbs = SkinDeformer::bind(rest, skin.bones, W, {.blend = SkinBlend::LBS});
+    SkinDeformer dqs = SkinDeformer::bind(rest, skin.bones, W, {.blend = SkinBlend::Linear});
+    DeltaMushDeformer dm = DeltaMushDeformer::bind(rest, skin.bones, W, DeltaMushDeformer::Options{});
+    DirectDeltaMushDeformer ddm =
+        DirectDeltaMushDeformer::bind(rest, skin.bones, W, DirectDeltaMushDeformer::Options{});
+    PinnedCleanup cleanup = PinnedCleanup::bind(rest, pins);
+    const GltfAnimation& anim = rig.animations.at(0);
+    for (double frac : {0.25, 0.5, 0.75}) {
+      const double t = anim.start + frac * anim.duration();
+      const std::vector<ga::Mot> frames = rig_pose_motors(rig, 0, t);
+      char edit[96];
+      std::snprintf(edit, sizeof edit, "%s t = %.2f s (%zu pins of %lld)", file, t,
+                    static_cast<std::size_t>(pins.size()), static_cast<long long>(rest.V.rows()));
+      Eigen::MatrixXd V_lbs, V;
+      double ms = time_ms([&] { lbs.pose(frames, V_lbs); });
+      rows.push_back(measure(edit, "LBS", rest, V_lbs, V_lbs, pins, ms));
+      ms = time_ms([&] { dqs.pose(frames, V); });
+      rows.push_back(measure(edit, "DQS", rest, V, V_lbs, pins, ms));
+      ms = time_ms([&] { dm.pose(frames, V); });
+      rows.push_back(measure(edit, "Delta Mush (LBS)", rest, V, V_lbs, pins, ms));
+      ms = time_ms([&] { ddm.pose(frames, V); });
+      rows.push_back(measure(edit, "Direct Delta Mush", rest, V, V_lbs, pins, ms));
+      ms = time_ms([&] { (void)cleanup.cleanup(V_lbs, V); });
+      rows.push_back(measure(edit, "pose-keeping cleanup of LBS", rest, V, V_lbs, pins, ms));
+    }
+  }
+}
+
 int run(int argc, char** argv) {
   std::string out = "out";
   bool small = false, check = false;
@@ -173,11 +215,14 @@ int run(int argc, char** argv) {
   app.add_option("--out", out, "output directory");
   app.add_flag("--small", small, "coarser meshes (the ctest size)");
   app.add_flag("--check", check, "assert the cleanup's figures; exit 1 if one fails");
+  std::string rigs;
+  app.add_option("--rigs", rigs, "folder with CesiumMan.gltf and RiggedFigure.gltf (the Cesium samples)");
   CLI11_PARSE(app, argc, argv);
 
   std::vector<Row> rows;
   arm_study(small, rows);
   sausage_study(small, rows);
+  if (!rigs.empty()) rig_study(rigs, rows);
 
   nlohmann::json j = nlohmann::json::array();
   std::printf("| edit | method | Q_mean | Q_max | volume / rest | pin error / diagonal | ms |\n");

@@ -1,0 +1,310 @@
+// `spinmotor rig`: glTF 2.0 skinned characters (mesh/gltf.hpp, deform/rig_skin.hpp).
+//   rig info FILE [--json]      joints, welded vertex count, renormalised weights, animations
+//   rig pose FILE (--time T | --frames N) [--animation I] [--blend lbs|dlb|log|pivot-log] --out PATH
+//       posed meshes: one file at PATH (--time), or PATH's stem + ".0000", ".0001", ... (--frames);
+//       a .gltf/.glb PATH holds all frames as morph targets driven by a STEP weights animation;
+//       [--space mesh|scene]: positions in the file's mesh space (default) or placed in its scene.
+// Bad input (unreadable rig, bad option, scaling joint for a motor blend) exits 2 before anything is
+// written; frame sequences are staged in a hidden folder and moved into place only when all are written.
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "command.hpp"
+#include "spinmotor/core/error.hpp"
+#include "spinmotor/core/option_names.hpp"
+#include "spinmotor/deform/rig_pins.hpp"
+#include "spinmotor/deform/rig_skin.hpp"
+#include "spinmotor/mesh/gltf.hpp"
+#include "spinmotor/mesh/io.hpp"
+#include "spinmotor/spin/pinned_cleanup.hpp"
+
+namespace {
+
+using spinmotor::Error;
+namespace fs = std::filesystem;
+
+struct RigArgs {
+  std::string file;
+  bool json = false;
+  // pose
+  double time = std::nan("");
+  int frames = 0;
+  int animation = 0;
+  std::string blend = "lbs";
+  std::string out;
+  std::string cleanup = "none";
+  double pin_threshold = 0.999, pin_margin = -1;  // --cleanup pinned; margin < 0: the default
+  std::string space = "mesh";
+};
+
+std::string lower(std::string s) {
+  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+nlohmann::json info_json(const spinmotor::GltfRig& rig) {
+  using nlohmann::json;
+  json j;
+  j["file"] = rig.file.string();
+  j["mesh"] = {{"name", rig.mesh_name},
+               {"node", rig.nodes[rig.mesh_node].name},
+               {"file_vertices", rig.file_vertices},
+               {"vertices", rig.mesh.num_vertices()},
+               {"faces", rig.mesh.num_faces()},
+               {"dropped_faces", rig.dropped_faces},
+               {"uv", rig.mesh.has_uv()}};
+  json joints = json::array();
+  for (Eigen::Index k = 0; k < rig.num_joints(); ++k)
+    joints.push_back({{"name", rig.joint_names[k]}, {"parent", rig.joint_parents[k]}});
+  j["joints"] = joints;
+  j["weights"] = {{"renormalised_rows", rig.renormalised_rows},
+                  {"min_sum", rig.min_weight_sum},
+                  {"weld_mismatches", rig.weld_weight_mismatches},
+                  {"weld_max_difference", rig.weld_weight_max_difference},
+                  {"max_influences", [&] {
+                     Eigen::Index m = 0;
+                     const Eigen::SparseMatrix<double, Eigen::RowMajor> r = rig.weights;
+                     for (Eigen::Index i = 0; i < r.outerSize(); ++i)
+                       m = std::max<Eigen::Index>(m, r.row(i).nonZeros());
+                     return m;
+                   }()}};
+  json anims = json::array();
+  for (const auto& a : rig.animations)
+    anims.push_back({{"name", a.name},
+                     {"channels", a.channels.size()},
+                     {"start", a.start},
+                     {"end", a.end},
+                     {"duration", a.duration()}});
+  j["animations"] = anims;
+  // Bind pose = rest pose? Largest distance of the rest-pose skinning from POSITION, / bbox diagonal.
+  const Eigen::MatrixXd& V = rig.mesh.V;
+  const double diag = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+  j["rest_pose_error"] = (spinmotor::skin_positions(rig, -1, 0.0) - V).rowwise().norm().maxCoeff() / diag;
+  j["warnings"] = rig.warnings;
+  return j;
+}
+
+void run_info(const RigArgs& a) {
+  const spinmotor::GltfRig rig = spinmotor::read_gltf(a.file);
+  const nlohmann::json j = info_json(rig);
+  if (a.json) {
+    std::cout << j.dump(2) << '\n';
+    return;
+  }
+  std::cout << rig.file.string() << ": mesh '" << rig.mesh_name << "' (node '"
+            << rig.nodes[rig.mesh_node].name << "')\n"
+            << "  vertices " << rig.mesh.num_vertices() << " welded from " << rig.file_vertices << ", faces "
+            << rig.mesh.num_faces()
+            << (rig.dropped_faces ? " (" + std::to_string(rig.dropped_faces) + " dropped)" : "") << ", uv "
+            << (rig.mesh.has_uv() ? "yes" : "no") << '\n'
+            << "  joints " << rig.num_joints() << ":";
+  for (Eigen::Index k = 0; k < rig.num_joints(); ++k)
+    std::cout << (k ? ", " : " ") << rig.joint_names[k]
+              << (rig.joint_parents[k] >= 0 ? "<" + rig.joint_names[rig.joint_parents[k]] : std::string());
+  std::cout << "\n  weights: max " << j["weights"]["max_influences"] << " influences, "
+            << rig.renormalised_rows << " rows renormalised (smallest sum " << rig.min_weight_sum << "), "
+            << rig.weld_weight_mismatches << " weld mismatches\n";
+  std::cout << "  rest pose error " << j["rest_pose_error"].get<double>()
+            << " of the diagonal (skinning at the bind pose vs POSITION)\n";
+  std::cout << "  animations " << rig.animations.size() << '\n';
+  for (size_t k = 0; k < rig.animations.size(); ++k) {
+    const auto& an = rig.animations[k];
+    char b[160];
+    std::snprintf(b, sizeof b, "    %zu '%s': %zu channels, %.4g .. %.4g s (duration %.4g s)\n", k,
+                  an.name.c_str(), an.channels.size(), an.start, an.end, an.duration());
+    std::cout << b;
+  }
+  for (const auto& w : rig.warnings) std::cerr << "spinmotor: warning: " << w << '\n';
+}
+
+// ---- post-skinning cleanup ------------------------------------------------------------------------
+// `--cleanup pinned`: the pose-keeping cleanup (spin/pinned_cleanup.hpp) of every posed frame, bound
+// once: the vertices of one joint (weight ≥ --pin-threshold) farther than --pin-margin (default a
+// quarter of the widest joint blend band, rig_pins.hpp) from any blended vertex stay where the skin put
+// them; the rest is made as conformal as possible at the rest volume (closed surfaces) or area.
+struct Cleanup {
+  std::optional<spinmotor::PinnedCleanup> pinned;
+  Eigen::MatrixXd V;
+
+  Cleanup(const std::string& mode, const spinmotor::GltfRig& rig, double threshold, double margin) {
+    if (mode == "none") return;
+    const spinmotor::RigSkin skin = spinmotor::rig_skin(rig);
+    const Eigen::MatrixXd W(skin.weights);
+    if (!(margin >= 0)) margin = spinmotor::default_pin_margin(rig.mesh.V, W, skin.bones, threshold);
+    const Eigen::VectorXi pins = spinmotor::pins_from_weights(rig.mesh.V, W, threshold, margin);
+    if (pins.size() == 0)
+      throw Error("rig pose: --cleanup pinned: no vertex has a weight ≥ " + std::to_string(threshold) +
+                  " farther than " + std::to_string(margin) +
+                  " from a blended vertex (lower --pin-threshold or --pin-margin)");
+    pinned.emplace(spinmotor::PinnedCleanup::bind(rig.mesh, pins));
+    std::cerr << "rig pose: cleanup pinned: " << pins.size() << " of " << rig.mesh.V.rows()
+              << " vertices pinned (margin " << margin << ")\n";
+  }
+  void operator()(Eigen::MatrixXd& V_frame) {
+    if (!pinned) return;
+    (void)pinned->cleanup(V_frame, V);
+    V_frame = V;
+  }
+};
+
+void run_pose(const RigArgs& a) {
+  // Validate everything before reading or writing.
+  const bool by_time = !std::isnan(a.time);
+  if (by_time == (a.frames > 0)) throw Error("rig pose: give exactly one of --time T and --frames N (N ≥ 1)");
+  if (by_time && !std::isfinite(a.time)) throw Error("rig pose: --time must be finite");
+  if (a.out.empty()) throw Error("rig pose: --out PATH is required");
+  const fs::path out(a.out);
+  const std::string ext = lower(out.extension().string());
+  const bool gltf_out = ext == ".gltf" || ext == ".glb";
+  if (!gltf_out) spinmotor::mesh_format(out);  // throws for an unknown extension
+  const auto blend = spinmotor::parse_option<spinmotor::SkinBlend>(a.blend, "rig pose: --blend: ");
+
+  const spinmotor::GltfRig rig = spinmotor::read_gltf(a.file);
+  for (const auto& w : rig.warnings) std::cerr << "spinmotor: warning: " << w << '\n';
+  if (rig.animations.empty()) throw Error(a.file + ": the file has no animation to pose");
+  if (a.animation < 0 || a.animation >= static_cast<int>(rig.animations.size()))
+    throw Error("rig pose: --animation " + std::to_string(a.animation) + " out of range (the file has " +
+                std::to_string(rig.animations.size()) + ")");
+  const spinmotor::GltfAnimation& anim = rig.animations[a.animation];
+
+  const int n = by_time ? 1 : a.frames;
+  std::vector<double> times(n);
+  for (int f = 0; f < n; ++f) times[f] = by_time ? a.time : spinmotor::gltf_frame_time(anim, f, n);
+  spinmotor::SkinDeformer d = spinmotor::bind_rig(rig, blend);
+  Cleanup cleanup_frame(a.cleanup, rig, a.pin_threshold, a.pin_margin);
+  // --space scene: the mesh node's global matrix places the result as in the file's scene (for the
+  // Khronos samples: their Z-up -> Y-up root). Mesh files get W_mesh(t) applied to the positions, a
+  // glTF the rest W_mesh as its node matrix.
+  const bool scene_space = a.space == "scene";
+  auto pose_frame = [&](int f) {
+    Eigen::MatrixXd V;
+    d.pose(spinmotor::rig_pose_motors(rig, a.animation, times[f]), V);
+    cleanup_frame(V);
+    if (scene_space && !gltf_out) {
+      const Eigen::Matrix4d w = spinmotor::node_world_matrices(rig, a.animation, times[f])[rig.mesh_node];
+      V = ((V * w.topLeftCorner<3, 3>().transpose()).rowwise() + w.topRightCorner<3, 1>().transpose()).eval();
+    }
+    return V;
+  };
+
+  std::vector<fs::path> written;
+  if (gltf_out) {
+    std::vector<Eigen::MatrixXd> frames(n);
+    for (int f = 0; f < n; ++f) frames[f] = pose_frame(f);
+    const Eigen::Matrix4d node = scene_space ? spinmotor::node_world_matrices(rig, -1, 0.0)[rig.mesh_node]
+                                             : Eigen::Matrix4d::Identity();
+    spinmotor::write_gltf_morph_animation(out, rig.mesh, frames, times, out.stem().string(), node);
+    written.push_back(out);
+  } else if (by_time) {
+    spinmotor::Mesh m = rig.mesh;
+    m.V = pose_frame(0);
+    spinmotor::write_mesh(out, m);
+    written.push_back(out);
+  } else {
+    // Stage the whole sequence in a hidden folder next to the output, frame by frame, then move it into
+    // place: an error (a bad frame, a full disk) leaves no frame behind.
+    const fs::path dir = out.parent_path().empty() ? fs::path(".") : out.parent_path();
+    const fs::path stage = dir / (".spinmotor-rig-" + out.stem().string() + "-" + std::to_string(getpid()));
+    const bool dir_existed = fs::exists(dir);
+    std::vector<fs::path> targets;
+    auto discard = [&] {
+      std::error_code ec;
+      fs::remove_all(stage, ec);
+      if (!dir_existed) fs::remove(dir, ec);  // the (empty) folder this run created
+    };
+    try {
+      fs::create_directories(stage);
+      spinmotor::Mesh m = rig.mesh;
+      for (int f = 0; f < n; ++f) {
+        char num[16];
+        std::snprintf(num, sizeof num, ".%04d", f);
+        const fs::path name = out.stem().string() + num + out.extension().string();
+        m.V = pose_frame(f);
+        spinmotor::write_mesh(stage / name, m);
+        targets.push_back(name);
+      }
+      for (const auto& name : targets) fs::rename(stage / name, dir / name);
+      fs::remove_all(stage);
+    } catch (const fs::filesystem_error& e) {
+      discard();
+      throw Error(std::string("rig pose: cannot write the frames: ") + e.what());
+    } catch (...) {
+      discard();
+      throw;
+    }
+    for (const auto& name : targets) written.push_back(dir / name);
+  }
+  std::cout << rig.file.filename().string() << ": " << rig.mesh.num_vertices() << " vertices, "
+            << rig.num_joints() << " joints, animation '" << anim.name << "', blend " << a.blend << ", " << n
+            << " frame" << (n > 1 ? "s" : "") << '\n';
+  if (written.size() <= 3)
+    for (const auto& p : written) std::cout << "  wrote " << p.string() << '\n';
+  else
+    std::cout << "  wrote " << written.front().string() << " .. " << written.back().string() << '\n';
+}
+
+const spinmotor::cli::RegisterCommand reg{
+    "rig", "glTF 2.0 skinned characters: print a rig's contents, pose its animation with a skinning blend",
+    [](CLI::App& sub) {
+      sub.require_subcommand(1);
+      auto a = std::make_shared<RigArgs>();
+      CLI::App* info =
+          sub.add_subcommand("info", "Joints, welded vertices, renormalised weights, animations");
+      info->add_option("file", a->file, "glTF file (.gltf or .glb)")->required();
+      info->add_flag("--json", a->json, "Print as JSON");
+      info->callback([a] { run_info(*a); });
+
+      CLI::App* pose = sub.add_subcommand("pose", "Pose the rig's animation and write the skinned meshes");
+      pose->add_option("file", a->file, "glTF file (.gltf or .glb)")->required();
+      pose->add_option("--time", a->time, "One frame at time T (seconds; clamped to the animation's range)");
+      pose->add_option("--frames", a->frames, "N frames evenly over the animation (first to last key time)");
+      pose->add_option("--animation", a->animation, "Animation index (default 0)");
+      pose->add_option(
+              "--blend", a->blend,
+              "Skinning blend (default lbs): lbs, dlb (dual quaternion / motor linear), log, pivot-log")
+          ->check(CLI::IsMember(spinmotor::option_values<spinmotor::SkinBlend>()));
+      pose->add_option(
+              "--out", a->out,
+              "Output: .obj/.ply/.off/.stl (with --frames: out/frame.obj -> out/frame.0000.obj ...), or "
+              ".gltf/.glb (all frames as morph targets)")
+          ->required();
+      pose->add_option(
+              "--space", a->space,
+              "Output coordinates: mesh (the file's POSITION frame, default) or scene (the mesh node's "
+              "global matrix applied, e.g. Y-up for the Khronos samples)")
+          ->check(CLI::IsMember({"mesh", "scene"}));
+      pose->add_option(
+              "--cleanup", a->cleanup,
+              "Post-skinning cleanup of each frame: none, or pinned (the pose-keeping conformal cleanup "
+              "with the bones' rigid parts pinned)")
+          ->check(CLI::IsMember({"none", "pinned"}));
+      pose->add_option("--pin-threshold", a->pin_threshold,
+                       "--cleanup pinned: a vertex is rigid when one joint's weight is at least this")
+          ->check(CLI::Range(0.5, 1.0))
+          ->capture_default_str();
+      pose->add_option("--pin-margin", a->pin_margin,
+                       "--cleanup pinned: rigid vertices closer than this to a blended one are left free "
+                       "(default: a quarter of the widest joint blend band)");
+      pose->callback([a] { run_pose(*a); });
+      const std::string examples =
+          "Examples:\n"
+          "  spinmotor rig info ../shared/rigs/CesiumMan.gltf --json\n"
+          "  spinmotor rig pose ../shared/rigs/RiggedFigure.gltf --frames 24 --blend dlb --out "
+          "out/frame.obj\n"
+          "  spinmotor rig pose ../shared/rigs/CesiumMan.gltf --time 1.2 --space scene --out posed.ply\n"
+          "  spinmotor rig pose ../shared/rigs/CesiumMan.gltf --frames 24 --cleanup pinned --out "
+          "out/clean.obj\n"
+          "  spinmotor rig pose ../shared/rigs/CesiumMan.gltf --frames 49 --out out/baked.glb  # Blender: "
+          "shape keys";
+      sub.footer(examples);
+      info->footer(examples);
+      pose->footer(examples);
+    }};
+
+}  // namespace
