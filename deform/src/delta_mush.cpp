@@ -5,6 +5,7 @@
 
 #include "mush_detail.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/parallel.hpp"
 
 namespace spinmotor {
 
@@ -79,7 +80,7 @@ void DeltaMushDeformer::smooth(const Eigen::MatrixXd& x) {
   for (int it = 0; it < options_.iterations; ++it) {
     const double* src = a_.data();
     double* dst = b_.data();
-#pragma omp parallel for schedule(static) if (n > kParallelBelow)
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend))
     for (Eigen::Index i = 0; i < n; ++i) {
       double s0 = 0.0, s1 = 0.0, s2 = 0.0;
       for (int k = off[i]; k < off[i + 1]; ++k) {
@@ -108,7 +109,7 @@ int DeltaMushDeformer::frames() {
   double* Bt = bit_.data();
   double* N = nrm_.data();
   int bad = static_cast<int>(n);
-#pragma omp parallel for schedule(static) if (n > kParallelBelow) reduction(min : bad)
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend)) reduction(min : bad)
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::Map<const Eigen::Vector3d> xi(X + 3 * i);
     Eigen::Vector3d nsum = Eigen::Vector3d::Zero();
@@ -153,7 +154,7 @@ void DeltaMushDeformer::pose(std::span<const ga::Mot> frames_in, Eigen::MatrixXd
   const Eigen::Index n = vertices();
   if (V_out.rows() != n || V_out.cols() != 3) V_out.resize(n, 3);
   const Eigen::MatrixXd& D = delta_;
-#pragma omp parallel for schedule(static) if (n > kParallelBelow)
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend))
   for (Eigen::Index i = 0; i < n; ++i) {
     const double d0 = D(i, 0), d1 = D(i, 1), d2 = D(i, 2);
     for (int c = 0; c < 3; ++c)

@@ -7,6 +7,7 @@
 
 #include "mush_detail.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/parallel.hpp"
 #include "spinmotor/linalg/cholesky_solver.hpp"
 
 namespace spinmotor {
@@ -159,7 +160,7 @@ void DirectDeltaMushDeformer::pose(std::span<const ga::Mot> frames, Eigen::Matri
   const int* bone = bone_.data();
   const Packed* om = omega_.data();
   const Eigen::MatrixXd& P = P_;
-#pragma omp parallel for schedule(static) if (n > kParallelBelow)
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend))
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::Vector3d u(P(i, 0), P(i, 1), P(i, 2));
     const Eigen::Matrix<double, 3, 4>& Tr = T[bone[off[i]]];

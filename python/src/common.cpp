@@ -34,8 +34,8 @@ py::array as_real_array(py::handle obj, const char* name, bool integer_only) {
   py::array a = py::array::ensure(obj);
   if (!a) {
     PyErr_Clear();
-    bad(std::string(name) + ": cannot be read as an array (got " + std::string(py::str(obj.get_type().attr("__name__"))) +
-        ")");
+    bad(std::string(name) + ": cannot be read as an array (got " +
+        std::string(py::str(obj.get_type().attr("__name__"))) + ")");
   }
   const char kind = a.dtype().kind();
   const bool ok = integer_only ? (kind == 'i' || kind == 'u') : (kind == 'f' || kind == 'i' || kind == 'u');
@@ -71,7 +71,8 @@ void register_error(py::module_& m) {
   });
 }
 
-Eigen::MatrixXd to_matrix(py::handle obj, const char* name, Eigen::Index rows, Eigen::Index cols, bool finite) {
+Eigen::MatrixXd to_matrix(py::handle obj, const char* name, Eigen::Index rows, Eigen::Index cols,
+                          bool finite) {
   py::array raw = as_real_array(obj, name, false);
   if (raw.ndim() != 2 || (rows >= 0 && raw.shape(0) != rows) || (cols >= 0 && raw.shape(1) != cols))
     bad(std::string(name) + ": expected shape " + want_shape(rows, cols) + ", got " + shape_of(raw));
@@ -86,7 +87,8 @@ Eigen::MatrixXd to_matrix(py::handle obj, const char* name, Eigen::Index rows, E
     for (py::ssize_t j = 0; j < u.shape(1); ++j) {
       const double x = u(i, j);
       if (finite && !std::isfinite(x))
-        bad(std::string(name) + ": row " + std::to_string(i) + ", column " + std::to_string(j) + " is not finite");
+        bad(std::string(name) + ": row " + std::to_string(i) + ", column " + std::to_string(j) +
+            " is not finite");
       M(i, j) = x;
     }
   return M;
@@ -95,8 +97,8 @@ Eigen::MatrixXd to_matrix(py::handle obj, const char* name, Eigen::Index rows, E
 Eigen::VectorXd to_vector(py::handle obj, const char* name, Eigen::Index size) {
   py::array raw = as_real_array(obj, name, false);
   if (raw.ndim() != 1 || (size >= 0 && raw.shape(0) != size))
-    bad(std::string(name) + ": expected shape (" + (size < 0 ? std::string("n") : std::to_string(size)) + ",), got " +
-        shape_of(raw));
+    bad(std::string(name) + ": expected shape (" + (size < 0 ? std::string("n") : std::to_string(size)) +
+        ",), got " + shape_of(raw));
   auto a = py::array_t<double, py::array::forcecast>::ensure(raw);
   if (!a) {
     PyErr_Clear();
@@ -158,8 +160,8 @@ Eigen::MatrixXi to_faces(py::handle obj, const char* name, Eigen::Index n) {
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     for (int c = 0; c < 3; ++c)
       if (F(f, c) < 0 || F(f, c) >= n)
-        bad(std::string(name) + ": face " + std::to_string(f) + " has vertex index " + std::to_string(F(f, c)) +
-            " outside [0, " + std::to_string(n) + ")");
+        bad(std::string(name) + ": face " + std::to_string(f) + " has vertex index " +
+            std::to_string(F(f, c)) + " outside [0, " + std::to_string(n) + ")");
   return F;
 }
 
@@ -212,12 +214,18 @@ std::vector<ga::Mot> to_motors(py::handle obj, const char* name) {
 template <class J>
 py::object json_to_python(const J& j) {
   switch (j.type()) {
-    case nlohmann::json::value_t::null: return py::none();
-    case nlohmann::json::value_t::boolean: return py::bool_(j.template get<bool>());
-    case nlohmann::json::value_t::number_integer: return py::int_(j.template get<long long>());
-    case nlohmann::json::value_t::number_unsigned: return py::int_(j.template get<unsigned long long>());
-    case nlohmann::json::value_t::number_float: return py::float_(j.template get<double>());
-    case nlohmann::json::value_t::string: return py::str(j.template get<std::string>());
+    case nlohmann::json::value_t::null:
+      return py::none();
+    case nlohmann::json::value_t::boolean:
+      return py::bool_(j.template get<bool>());
+    case nlohmann::json::value_t::number_integer:
+      return py::int_(j.template get<long long>());
+    case nlohmann::json::value_t::number_unsigned:
+      return py::int_(j.template get<unsigned long long>());
+    case nlohmann::json::value_t::number_float:
+      return py::float_(j.template get<double>());
+    case nlohmann::json::value_t::string:
+      return py::str(j.template get<std::string>());
     case nlohmann::json::value_t::array: {
       py::list l;
       for (const auto& e : j) l.append(json_to_python(e));
@@ -228,7 +236,8 @@ py::object json_to_python(const J& j) {
       for (auto it = j.begin(); it != j.end(); ++it) d[py::str(it.key())] = json_to_python(it.value());
       return std::move(d);
     }
-    default: return py::none();
+    default:
+      return py::none();
   }
 }
 

@@ -5,6 +5,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
@@ -26,7 +27,8 @@ void register_error(py::module_& m);
 /// A real (float or integer) array of shape (rows, cols) as an Eigen matrix, any memory order.
 /// rows = -1: any row count; cols = -1: any column count. finite = true rejects NaN/inf, naming the
 /// row and column. `name` is the argument name used in messages.
-Eigen::MatrixXd to_matrix(py::handle obj, const char* name, Eigen::Index rows, Eigen::Index cols, bool finite = true);
+Eigen::MatrixXd to_matrix(py::handle obj, const char* name, Eigen::Index rows, Eigen::Index cols,
+                          bool finite = true);
 
 /// A real vector of `size` entries (-1: any size), finite.
 Eigen::VectorXd to_vector(py::handle obj, const char* name, Eigen::Index size = -1);
@@ -47,7 +49,8 @@ Eigen::VectorXi to_int_vector(py::handle obj, const char* name);
 Eigen::MatrixXi to_faces(py::handle obj, const char* name, Eigen::Index n);
 
 /// (V, F) as a Mesh, validated as above (finite V unless finite = false).
-Mesh to_mesh(py::handle V, py::handle F, bool finite = true, const char* vname = "V", const char* fname = "F");
+Mesh to_mesh(py::handle V, py::handle F, bool finite = true, const char* vname = "V",
+             const char* fname = "F");
 
 /// A C-ordered float64 / int32 numpy copy.
 py::array_t<double> to_numpy(const Eigen::MatrixXd& M);

@@ -109,7 +109,8 @@ std::vector<Bone> to_skeleton(py::handle obj) {
       tail = item[py::int_(3)];
       rest = py::len(item) == 5 ? py::object(item[py::int_(4)]) : py::object(py::none());
     } else {
-      throw Error(where + ": expected a dict {name, parent, head, tail, rest} or a tuple (name, parent, head, tail)");
+      throw Error(where +
+                  ": expected a dict {name, parent, head, tail, rest} or a tuple (name, parent, head, tail)");
     }
     Bone b;
     if (!py::isinstance<py::str>(name)) throw Error(where + ": name must be a str");
@@ -162,7 +163,8 @@ Attributes:
   type:     the C++ class name
 )doc")
       .def_property_readonly("controls", [](const PyDeformer& p) { return controls_list(p.d); })
-      .def_property_readonly("vertices", [](const PyDeformer& p) { return static_cast<long long>(p.d.vertices()); })
+      .def_property_readonly("vertices",
+                             [](const PyDeformer& p) { return static_cast<long long>(p.d.vertices()); })
       .def_property_readonly("type", [](const PyDeformer& p) { return p.type; })
       .def(
           "pose",
@@ -207,7 +209,8 @@ Errors: spinmotor.Error for bad arrays, bad handles (naming the handle and verte
                o.blend = parse_option<ga::Blend>(blend, "blend: ");
                return bind_released<PySurfaceHarmonic, D>(rest, rig, o, "SurfaceHarmonicDeformer");
              }),
-             py::arg("V"), py::arg("F"), py::arg("handles"), py::arg("weights") = std::string(option_name(def.weights)),
+             py::arg("V"), py::arg("F"), py::arg("handles"),
+             py::arg("weights") = std::string(option_name(def.weights)),
              py::arg("blend") = std::string(option_name(def.blend)));
   }
 
@@ -225,7 +228,8 @@ ArapDeformer(V, F, handles, energy="spokes-and-rims", clamp_negative_weights=Fal
 Errors: as SurfaceHarmonicDeformer; numerical Error if the factorization fails.
 )doc")
         .def(py::init([](py::object V, py::object F, py::object handles, const std::string& energy,
-                         bool clamp_negative_weights, int iterations, double tolerance, const std::string& initial) {
+                         bool clamp_negative_weights, int iterations, double tolerance,
+                         const std::string& initial) {
                const Mesh rest = to_mesh(V, F);
                Rig rig;
                rig.handles = to_handles(handles);
@@ -237,9 +241,11 @@ Errors: as SurfaceHarmonicDeformer; numerical Error if the factorization fails.
                o.initial = parse_option<ArapInitial>(initial, "initial: ");
                return bind_released<PyArap, D>(rest, rig, o, "ArapDeformer");
              }),
-             py::arg("V"), py::arg("F"), py::arg("handles"), py::arg("energy") = std::string(option_name(def.energy)),
-             py::arg("clamp_negative_weights") = def.clamp_negative_weights, py::arg("iterations") = def.iterations,
-             py::arg("tolerance") = def.tolerance, py::arg("initial") = std::string(option_name(def.initial)));
+             py::arg("V"), py::arg("F"), py::arg("handles"),
+             py::arg("energy") = std::string(option_name(def.energy)),
+             py::arg("clamp_negative_weights") = def.clamp_negative_weights,
+             py::arg("iterations") = def.iterations, py::arg("tolerance") = def.tolerance,
+             py::arg("initial") = std::string(option_name(def.initial)));
   }
 
   // ---- FfdDeformer -------------------------------------------------------------------------------
@@ -255,8 +261,9 @@ FfdDeformer(V, F=None, lattice=(4, 4, 4), basis="bezier", degree=3, mode="motor"
   box: ((xmin, ymin, zmin), (xmax, ymax, zmax)) or None for the bounding box grown by margin.
   Controls "ffd[a,b,c]" at the lattice points.
 )doc")
-        .def(py::init([](py::object V, py::object F, std::array<int, 3> lattice, const std::string& basis, int degree,
-                         const std::string& mode, const std::string& blend, py::object box, double margin) {
+        .def(py::init([](py::object V, py::object F, std::array<int, 3> lattice, const std::string& basis,
+                         int degree, const std::string& mode, const std::string& blend, py::object box,
+                         double margin) {
                Mesh rest;
                rest.V = to_points(V, "V");
                if (!F.is_none()) rest.F = to_faces(F, "F", rest.V.rows());
@@ -275,8 +282,9 @@ FfdDeformer(V, F=None, lattice=(4, 4, 4), basis="bezier", degree=3, mode="motor"
              }),
              py::arg("V"), py::arg("F") = py::none(), py::arg("lattice") = def.lattice,
              py::arg("basis") = std::string(option_name(def.basis)), py::arg("degree") = def.degree,
-             py::arg("mode") = std::string(option_name(def.mode)), py::arg("blend") = std::string(option_name(def.blend)),
-             py::arg("box") = py::none(), py::arg("margin") = def.margin);
+             py::arg("mode") = std::string(option_name(def.mode)),
+             py::arg("blend") = std::string(option_name(def.blend)), py::arg("box") = py::none(),
+             py::arg("margin") = def.margin);
   }
 
   // ---- CageDeformer ------------------------------------------------------------------------------
@@ -291,8 +299,8 @@ CageDeformer(V, F, cage=(CV, CF), coordinates="harmonic", grid=64, mode="motor",
   coordinates: "harmonic" | "mean-value"; mode: "motor" | "position"; blend: "log" | "pivot-log" | "dlb".
 Errors: spinmotor.Error for a bad cage (open, misoriented) or a mesh vertex outside the cage.
 )doc")
-        .def(py::init([](py::object V, py::object F, py::object cage, const std::string& coordinates, int grid,
-                         const std::string& mode, const std::string& blend) {
+        .def(py::init([](py::object V, py::object F, py::object cage, const std::string& coordinates,
+                         int grid, const std::string& mode, const std::string& blend) {
                const Mesh rest = to_mesh(V, F);
                if (!py::isinstance<py::sequence>(cage) || py::len(cage) != 2)
                  throw Error("cage: expected a (CV, CF) pair or a spinmotor.Mesh");
@@ -307,7 +315,8 @@ Errors: spinmotor.Error for a bad cage (open, misoriented) or a mesh vertex outs
              }),
              py::arg("V"), py::arg("F"), py::arg("cage"),
              py::arg("coordinates") = std::string(option_name(def.coordinates)), py::arg("grid") = def.grid,
-             py::arg("mode") = std::string(option_name(def.mode)), py::arg("blend") = std::string(option_name(def.blend)));
+             py::arg("mode") = std::string(option_name(def.mode)),
+             py::arg("blend") = std::string(option_name(def.blend)));
   }
 
   // ---- skeleton deformers: SkinDeformer, DeltaMushDeformer, DirectDeltaMushDeformer ---------------
@@ -319,12 +328,14 @@ Errors: spinmotor.Error for a bad cage (open, misoriented) or a mesh vertex outs
   {
     using D = SkinDeformer;
     const D::Options def{};
-    py::class_<PySkin, PyDeformer>(m, "SkinDeformer",
-                                   (std::string("Skinning with motors.\n\nSkinDeformer(V, F, skeleton, weights, "
-                                                "blend=\"dlb\")\n") +
-                                    kSkeletonDoc + "  blend: \"lbs\" | \"dlb\" | \"log\" | \"pivot-log\".\n")
-                                       .c_str())
-        .def(py::init([](py::object V, py::object F, py::object skeleton, py::object weights, const std::string& blend) {
+    py::class_<PySkin, PyDeformer>(
+        m, "SkinDeformer",
+        (std::string("Skinning with motors.\n\nSkinDeformer(V, F, skeleton, weights, "
+                     "blend=\"dlb\")\n") +
+         kSkeletonDoc + "  blend: \"lbs\" | \"dlb\" | \"log\" | \"pivot-log\".\n")
+            .c_str())
+        .def(py::init([](py::object V, py::object F, py::object skeleton, py::object weights,
+                         const std::string& blend) {
                const Mesh rest = to_mesh(V, F);
                Rig rig;
                rig.skeleton = to_skeleton(skeleton);
@@ -341,8 +352,9 @@ Errors: spinmotor.Error for a bad cage (open, misoriented) or a mesh vertex outs
     const D::Options def{};
     py::class_<PyDeltaMush, PyDeformer>(
         m, "DeltaMushDeformer",
-        (std::string("Delta Mush (Mancewicz et al. 2014) over a skin.\n\nDeltaMushDeformer(V, F, skeleton, weights, "
-                     "iterations=10, step=0.5, blend=\"lbs\")\n") +
+        (std::string(
+             "Delta Mush (Mancewicz et al. 2014) over a skin.\n\nDeltaMushDeformer(V, F, skeleton, weights, "
+             "iterations=10, step=0.5, blend=\"lbs\")\n") +
          kSkeletonDoc)
             .c_str())
         .def(py::init([](py::object V, py::object F, py::object skeleton, py::object weights, int iterations,
@@ -366,8 +378,9 @@ Errors: spinmotor.Error for a bad cage (open, misoriented) or a mesh vertex outs
     const D::Options def{};
     py::class_<PyDirectDeltaMush, PyDeformer>(
         m, "DirectDeltaMushDeformer",
-        (std::string("Direct Delta Mush (Le & Lewis 2019).\n\nDirectDeltaMushDeformer(V, F, skeleton, weights, "
-                     "iterations=10, tau=1.0, prune=1e-7)\n") +
+        (std::string(
+             "Direct Delta Mush (Le & Lewis 2019).\n\nDirectDeltaMushDeformer(V, F, skeleton, weights, "
+             "iterations=10, tau=1.0, prune=1e-7)\n") +
          kSkeletonDoc)
             .c_str())
         .def(py::init([](py::object V, py::object F, py::object skeleton, py::object weights, int iterations,
@@ -411,9 +424,10 @@ SplineDeformer(V, F, handles=[(from_name, idx), (to_name, idx)], basis="bspline"
                if (!key_names.is_none()) o.key_names = key_names.cast<std::vector<std::string>>();
                return bind_released<PySpline, D>(rest, rig, o, "SplineDeformer");
              }),
-             py::arg("V"), py::arg("F"), py::arg("handles"), py::arg("basis") = std::string(option_name(def.basis)),
-             py::arg("degree") = def.degree, py::arg("keys") = def.keys,
-             py::arg("weights") = std::string(option_name(def.weights)), py::arg("key_names") = py::none());
+             py::arg("V"), py::arg("F"), py::arg("handles"),
+             py::arg("basis") = std::string(option_name(def.basis)), py::arg("degree") = def.degree,
+             py::arg("keys") = def.keys, py::arg("weights") = std::string(option_name(def.weights)),
+             py::arg("key_names") = py::none());
   }
   {
     using D = SplineIkDeformer;
@@ -429,8 +443,8 @@ SplineIkDeformer(V, F, handles=[from, to], chain, target, tolerance=1e-4, iterat
   One control "ik.target" (its motor carries the rest target to the frame's target).
 )doc")
         .def(py::init([](py::object V, py::object F, py::object handles, py::object chain, py::object target,
-                         double tolerance, int iterations, int controls, int degree, const std::string& weights,
-                         bool warm_start) {
+                         double tolerance, int iterations, int controls, int degree,
+                         const std::string& weights, bool warm_start) {
                const Mesh rest = to_mesh(V, F);
                Rig rig;
                rig.handles = to_handles(handles);
@@ -450,7 +464,8 @@ SplineIkDeformer(V, F, handles=[from, to], chain, target, tolerance=1e-4, iterat
              py::arg("V"), py::arg("F"), py::arg("handles"), py::arg("chain"), py::arg("target"),
              py::arg("tolerance") = ikdef.tolerance, py::arg("iterations") = ikdef.iterations,
              py::arg("controls") = def.controls, py::arg("degree") = def.degree,
-             py::arg("weights") = std::string(option_name(def.weights)), py::arg("warm_start") = def.warm_start);
+             py::arg("weights") = std::string(option_name(def.weights)),
+             py::arg("warm_start") = def.warm_start);
   }
 }
 

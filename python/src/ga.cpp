@@ -42,8 +42,10 @@ Composition: a * b applies b first, then a (as matrices).
 )doc")
       .def(py::init([] { return ga::Mot(1, 0, 0, 0, 0, 0, 0, 0); }), "The identity motor.")
       .def(py::init([](py::object matrix) { return from_matrix(matrix); }), py::arg("matrix"),
-           "Motor(matrix): from a 4x4 rigid matrix (float array). Errors: spinmotor.Error unless the upper-left "
-           "3x3 block is a rotation (|R^T R - I| <= 1e-6, det > 0), the last row is (0, 0, 0, 1) and all entries "
+           "Motor(matrix): from a 4x4 rigid matrix (float array). Errors: spinmotor.Error unless the "
+           "upper-left "
+           "3x3 block is a rotation (|R^T R - I| <= 1e-6, det > 0), the last row is (0, 0, 0, 1) and all "
+           "entries "
            "are finite.")
       .def_static(
           "from_rotation",
@@ -57,11 +59,13 @@ Composition: a * b applies b first, then a (as matrices).
           },
           py::arg("axis"), py::arg("degrees"), py::arg("about") = std::array<double, 3>{0, 0, 0},
           py::arg("translate") = std::array<double, 3>{0, 0, 0},
-          "Motor.from_rotation(axis, degrees, about=(0,0,0), translate=(0,0,0)): rotation by `degrees` about the "
+          "Motor.from_rotation(axis, degrees, about=(0,0,0), translate=(0,0,0)): rotation by `degrees` about "
+          "the "
           "line through `about` along `axis` (any non-zero length), then translation by `translate`: "
           "x -> R (x - about) + about + translate. Errors: spinmotor.Error for a zero or non-finite axis.")
       .def_static(
-          "from_translation", [](py::object t) { return ga::motor(ga::Rot(1, 0, 0, 0), ga::translator(to_vec3(t, "t"))); },
+          "from_translation",
+          [](py::object t) { return ga::motor(ga::Rot(1, 0, 0, 0), ga::translator(to_vec3(t, "t"))); },
           py::arg("t"), "Motor.from_translation(t): translation by the 3-vector t.")
       .def_static(
           "exp",
@@ -71,7 +75,8 @@ Composition: a * b applies b first, then a (as matrices).
           },
           py::arg("b"),
           "Motor.exp(b): the motor exp(B) of a generator given as 6 coefficients in the order of log() "
-          "(e12, e31, e23, e1inf, e2inf, e3inf). Errors: spinmotor.Error for a wrong length or a non-finite entry.")
+          "(e12, e31, e23, e1inf, e2inf, e3inf). Errors: spinmotor.Error for a wrong length or a non-finite "
+          "entry.")
       .def_static(
           "from_coefficients",
           [](py::object c) {
@@ -106,10 +111,12 @@ Composition: a * b applies b first, then a (as matrices).
             return to_numpy(v);
           },
           "coefficients() -> (8,) float64 (s, e12, e31, e23, e1inf, e2inf, e3inf, e123inf).")
-      .def("translation", [](const ga::Mot& self) { return to_numpy(Eigen::VectorXd(ga::translation(self))); },
-           "translation() -> (3,) the translation part t of x -> R x + t.")
-      .def("inverse", [](const ga::Mot& self) { return ga::Mot(ga::reverse(self)); },
-           "inverse() -> Motor: the reverse ~M (the inverse motion of a unit motor).")
+      .def(
+          "translation", [](const ga::Mot& self) { return to_numpy(Eigen::VectorXd(ga::translation(self))); },
+          "translation() -> (3,) the translation part t of x -> R x + t.")
+      .def(
+          "inverse", [](const ga::Mot& self) { return ga::Mot(ga::reverse(self)); },
+          "inverse() -> Motor: the reverse ~M (the inverse motion of a unit motor).")
       .def(
           "__mul__", [](const ga::Mot& a, const ga::Mot& b) { return ga::Mot(a * b); }, py::is_operator(),
           "a * b: the composition (b first, then a).")
@@ -129,7 +136,8 @@ Composition: a * b applies b first, then a (as matrices).
             return to_numpy(out);
           },
           py::arg("points"),
-          "apply(points) -> moved points: (n, 3) -> (n, 3), or one (3,) point -> (3,). Errors: spinmotor.Error "
+          "apply(points) -> moved points: (n, 3) -> (n, 3), or one (3,) point -> (3,). Errors: "
+          "spinmotor.Error "
           "for a bad shape or a non-finite coordinate.")
       .def("__repr__",
            [](const ga::Mot& self) {
@@ -149,7 +157,8 @@ Composition: a * b applies b first, then a (as matrices).
           [](py::tuple t) {
             if (t.size() != 8) throw Error("Motor: bad pickle state");
             return ga::Mot(t[0].cast<double>(), t[1].cast<double>(), t[2].cast<double>(), t[3].cast<double>(),
-                           t[4].cast<double>(), t[5].cast<double>(), t[6].cast<double>(), t[7].cast<double>());
+                           t[4].cast<double>(), t[5].cast<double>(), t[6].cast<double>(),
+                           t[7].cast<double>());
           }));
 
   m.def(

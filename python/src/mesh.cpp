@@ -86,8 +86,8 @@ A Mesh unpacks as (V, F):  V, F = spinmotor.icosphere(3)
              throw py::index_error("Mesh unpacks as (V, F)");
            })
       .def("__repr__", [](const PyMesh& p) {
-        return "<spinmotor.Mesh " + std::to_string(py::len(p.V)) + " vertices, " + std::to_string(py::len(p.F)) +
-               " faces" + (p.UV.is_none() ? "" : ", with UV") + ">";
+        return "<spinmotor.Mesh " + std::to_string(py::len(p.V)) + " vertices, " +
+               std::to_string(py::len(p.F)) + " faces" + (p.UV.is_none() ? "" : ", with UV") + ">";
       });
 
   m.def(
@@ -112,7 +112,8 @@ Errors: spinmotor.Error naming the file and line (unsupported extension, syntax,
 
   m.def(
       "write_mesh",
-      [](const std::filesystem::path& path, py::object V, py::object F, py::object UV, py::object FUV, bool binary) {
+      [](const std::filesystem::path& path, py::object V, py::object F, py::object UV, py::object FUV,
+         bool binary) {
         Mesh mesh = to_mesh(V, F, false);
         if (!UV.is_none() || !FUV.is_none()) {
           mesh.UV = to_matrix(UV, "UV", -1, 2);
@@ -163,7 +164,8 @@ Errors:  spinmotor.Error for a bad shape or dtype, or a face index outside [0, n
           throw Error("V1: has " + std::to_string(Vd.rows()) + " vertices, V0 " + std::to_string(Vr.rows()) +
                       " (same connectivity required)");
         const Eigen::MatrixXi Fi = to_faces(F, "F", Vr.rows());
-        const MetricsOptions o{.alignment = parse_option<Alignment>(alignment, "alignment: "), .willmore = willmore};
+        const MetricsOptions o{.alignment = parse_option<Alignment>(alignment, "alignment: "),
+                               .willmore = willmore};
         DeformationMetrics r;
         {
           py::gil_scoped_release release;
@@ -188,14 +190,20 @@ Errors:  spinmotor.Error for bad shapes, NaN/inf, bad indices, an unknown alignm
 )doc");
 
   // ---- generators (mesh/generators.hpp; Error names the bad parameter) ----
-  m.def("icosphere", [](int level, double radius) { return generate([&] { return icosphere(level, radius); }); }, py::arg("level"),
-        py::arg("radius") = 1.0,
-        "icosphere(level, radius=1.0) -> Mesh. Subdivided icosahedron: 10*4^level + 2 vertices on the sphere; "
-        "vertex 0 is the north pole. Requires 0 <= level <= 10, radius > 0 (spinmotor.Error otherwise).");
-  m.def("uv_sphere", [](int rings, int sectors, double radius) { return generate([&] { return uv_sphere(rings, sectors, radius); }); },
-        py::arg("rings"), py::arg("sectors"), py::arg("radius") = 1.0,
-        "uv_sphere(rings, sectors, radius=1.0) -> Mesh. Latitude-longitude sphere, rings*sectors + 2 vertices. "
-        "Requires rings >= 1, sectors >= 3, radius > 0.");
+  m.def(
+      "icosphere",
+      [](int level, double radius) { return generate([&] { return icosphere(level, radius); }); },
+      py::arg("level"), py::arg("radius") = 1.0,
+      "icosphere(level, radius=1.0) -> Mesh. Subdivided icosahedron: 10*4^level + 2 vertices on the sphere; "
+      "vertex 0 is the north pole. Requires 0 <= level <= 10, radius > 0 (spinmotor.Error otherwise).");
+  m.def(
+      "uv_sphere",
+      [](int rings, int sectors, double radius) {
+        return generate([&] { return uv_sphere(rings, sectors, radius); });
+      },
+      py::arg("rings"), py::arg("sectors"), py::arg("radius") = 1.0,
+      "uv_sphere(rings, sectors, radius=1.0) -> Mesh. Latitude-longitude sphere, rings*sectors + 2 vertices. "
+      "Requires rings >= 1, sectors >= 3, radius > 0.");
   m.def(
       "grid",
       [](std::array<double, 2> size, std::array<int, 2> n) {
@@ -204,9 +212,10 @@ Errors:  spinmotor.Error for bad shapes, NaN/inf, bad indices, an unknown alignm
       py::arg("size"), py::arg("n"),
       "grid(size=(sx, sy), n=(nx, ny)) -> Mesh. Planar grid in z = 0 centred at the origin, nx*ny vertices "
       "(vertex (i, j) is i + j*nx). Requires size > 0 and n >= 2.");
-  m.def("torus", [](double R, double r, int u, int v) { return generate([&] { return torus(R, r, u, v); }); }, py::arg("R"), py::arg("r"),
-        py::arg("u"), py::arg("v"),
-        "torus(R, r, u, v) -> Mesh. Torus around z, u*v vertices (genus 1). Requires 0 < r < R, u, v >= 3.");
+  m.def(
+      "torus", [](double R, double r, int u, int v) { return generate([&] { return torus(R, r, u, v); }); },
+      py::arg("R"), py::arg("r"), py::arg("u"), py::arg("v"),
+      "torus(R, r, u, v) -> Mesh. Torus around z, u*v vertices (genus 1). Requires 0 < r < R, u, v >= 3.");
   m.def(
       "tube",
       [](double radius, double length, int rings, int sides, bool capped) {

@@ -69,7 +69,8 @@ py::dict flow_dict(const CurvatureFlow& r) {
 }
 
 CurvatureSpinOptions curvature_options(double alpha, double beta, double area_epsilon, bool exactness) {
-  return CurvatureSpinOptions{.alpha = alpha, .beta = beta, .area_epsilon = area_epsilon, .exactness = exactness};
+  return CurvatureSpinOptions{
+      .alpha = alpha, .beta = beta, .area_epsilon = area_epsilon, .exactness = exactness};
 }
 
 }  // namespace
@@ -89,8 +90,8 @@ ConformalSnap(V, F, boundary_tangents=True, rho_smoothing=0, tolerance=1e-10, it
   rho averaging (for creased edits); tolerance / iterations: the inverse iteration.
 Errors: spinmotor.Error naming the first offending element; numerical Error if a factorization fails.
 )doc")
-        .def(py::init([](py::object V, py::object F, bool boundary_tangents, int rho_smoothing, double tolerance,
-                         int iterations) {
+        .def(py::init([](py::object V, py::object F, bool boundary_tangents, int rho_smoothing,
+                         double tolerance, int iterations) {
                const Mesh rest = to_mesh(V, F);
                ConformalSnapOptions o;
                o.boundary_tangents = boundary_tangents;
@@ -155,8 +156,8 @@ Errors: spinmotor.Error naming the first offender.
                p.st = std::make_unique<SpinTransform>(mesh, o);
                return p;
              }),
-             py::arg("V"), py::arg("F"), py::arg("tolerance") = def.tolerance, py::arg("iterations") = def.iterations,
-             py::arg("krylov") = def.krylov)
+             py::arg("V"), py::arg("F"), py::arg("tolerance") = def.tolerance,
+             py::arg("iterations") = def.iterations, py::arg("krylov") = def.krylov)
         .def(
             "solve",
             [](PySpin& p, py::object rho, bool full) -> py::object {
@@ -244,8 +245,8 @@ Errors:  spinmotor.Error for a bad mesh or option; numerical Error if a solve fa
           return flow_dict(r);
         },
         py::arg("V"), py::arg("F"), py::arg("steps"), py::arg("tau"), py::arg("alpha") = def.alpha,
-        py::arg("beta") = def.beta, py::arg("area_epsilon") = def.area_epsilon, py::arg("exactness") = def.exactness,
-        py::arg("progress") = py::none(), R"doc(
+        py::arg("beta") = def.beta, py::arg("area_epsilon") = def.area_epsilon,
+        py::arg("exactness") = def.exactness, py::arg("progress") = py::none(), R"doc(
 Curvature fairing toward a round sphere (Le Folgoc section 6; spin/curvature_spin_flow.hpp).
 
 Inputs:  V (n, 3), F (m, 3): a closed, oriented, manifold mesh; steps >= 0; tau in (0, 1] (each step
@@ -270,15 +271,16 @@ Errors:  spinmotor.Error for a bad mesh or option; an exception raised by progre
           CurvatureFlow r;
           {
             py::gil_scoped_release release;
-            require(Mesh{T, sphere.F, {}, {}}, {.manifold = true, .oriented = true, .closed = true}, "extrude");
+            require(Mesh{T, sphere.F, {}, {}}, {.manifold = true, .oriented = true, .closed = true},
+                    "extrude");
             r = curvature_extrusion(sphere.V, sphere.F, T, steps, o, cb);
           }
           return flow_dict(r);
         },
         py::arg("V_sphere"), py::arg("F"), py::arg("V_target"), py::arg("steps"),
         py::arg("alpha") = kExtrusionOptions.alpha, py::arg("beta") = kExtrusionOptions.beta,
-        py::arg("area_epsilon") = kExtrusionOptions.area_epsilon, py::arg("exactness") = kExtrusionOptions.exactness,
-        py::arg("progress") = py::none(), R"doc(
+        py::arg("area_epsilon") = kExtrusionOptions.area_epsilon,
+        py::arg("exactness") = kExtrusionOptions.exactness, py::arg("progress") = py::none(), R"doc(
 Curvature extrusion (Le Folgoc section 6, Ye section 5.2): from V_sphere (same F) toward the curvature
 half-density and face areas of V_target, in `steps` ramped steps (e.g. back from fair()'s result).
 

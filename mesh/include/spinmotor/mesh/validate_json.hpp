@@ -43,7 +43,8 @@ inline nlohmann::ordered_json report_json(const MeshReport& r) {
   if (r.first_non_manifold_edge[0] >= 0) first["non_manifold_edge"] = r.first_non_manifold_edge;
   if (r.first_non_manifold_vertex >= 0) first["non_manifold_vertex"] = r.first_non_manifold_vertex;
   if (r.first_degenerate_face >= 0) first["degenerate_face"] = r.first_degenerate_face;
-  if (r.first_duplicate_vertex >= 0) first["duplicate_vertex"] = {r.first_duplicate_vertex, r.first_duplicate_of};
+  if (r.first_duplicate_vertex >= 0)
+    first["duplicate_vertex"] = {r.first_duplicate_vertex, r.first_duplicate_of};
   if (r.first_unreferenced_vertex >= 0) first["unreferenced_vertex"] = r.first_unreferenced_vertex;
   if (r.first_nonfinite_vertex >= 0) first["nonfinite_vertex"] = r.first_nonfinite_vertex;
   if (r.first_inconsistent_edge[0] >= 0) first["inconsistent_edge"] = r.first_inconsistent_edge;
