@@ -25,7 +25,8 @@ using spinmotor::MeshReport;
 nlohmann::ordered_json to_json(const std::string& file, const MeshReport& r) {
   nlohmann::ordered_json j;  // "file" first, then the report's keys (validate_json.hpp)
   j["file"] = file;
-  for (const auto& [key, value] : spinmotor::report_json(r).items()) j[key] = value;
+  const nlohmann::ordered_json report = spinmotor::report_json(r);  // named: items() must not outlive it
+  for (const auto& [key, value] : report.items()) j[key] = value;
   return j;
 }
 
