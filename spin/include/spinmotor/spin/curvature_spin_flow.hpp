@@ -70,7 +70,8 @@ inline constexpr CurvatureSpinOptions kExtrusionOptions{.alpha = 0.05};
 /// Fairing toward a round sphere (Le Folgoc §6): `steps` steps of δh = −τh (h̄ = (1 − τ) h on the current
 /// surface), 0 < τ ≤ 1; with the area constraint, target areas are the input's (A* = A⁰).
 CurvatureFlow curvature_fairing(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int steps, double tau,
-                                const CurvatureSpinOptions& options = {}, const CurvatureProgress& progress = {});
+                                const CurvatureSpinOptions& options = {},
+                                const CurvatureProgress& progress = {});
 
 /// Extrusion (Le Folgoc §6, Ye §5.2): from V_sphere (same F) toward the half-density h* and areas A* of
 /// V_target, `steps` steps with h̄ = h + (h* − h)/(steps − k) at step k (the last step prescribes h*);
