@@ -40,3 +40,12 @@ def test_error_type_and_kind(sphere):
         sm.check(None, F)
     with pytest.raises(sm.Error, match="32-bit"):
         sm.check(V, F.astype(np.int64) + 2**40)
+
+
+def test_error_pickles_with_its_kind():
+    """dask ships worker exceptions pickled: spinmotor.Error keeps its class, message and kind."""
+    import pickle
+    with pytest.raises(sm.Error) as e:
+        sm.icosphere(99)
+    back = pickle.loads(pickle.dumps(e.value))
+    assert type(back) is sm.Error and back.kind == "bad_input" and "level" in str(back)
