@@ -240,7 +240,7 @@ Eigen::MatrixXd rescale(const Eigen::MatrixXd& X, const Eigen::MatrixXi& F, doub
 }  // namespace
 
 CurvatureFlow curvature_fairing(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int steps, double tau,
-                                const CurvatureSpinOptions& options) {
+                                const CurvatureSpinOptions& options, const CurvatureProgress& progress) {
   if (steps < 0) throw Error("curvature_fairing: steps must be >= 0, got " + std::to_string(steps));
   if (!(tau > 0 && tau <= 1)) {
     std::ostringstream s;
@@ -259,6 +259,7 @@ CurvatureFlow curvature_fairing(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
     const CurvatureSpinStep st = curvature_spin_step(out.V, F, (1.0 - tau) * net.h, A0, options);
     out.V = rescale(st.V, F, total0, c0);
     out.closure.push_back(st.closure);
+    if (progress) progress(k + 1, steps);
   }
   out.willmore.push_back(face_willmore_energy(out.V, F));
   return out;
@@ -266,7 +267,7 @@ CurvatureFlow curvature_fairing(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
 
 CurvatureFlow curvature_extrusion(const Eigen::MatrixXd& V_sphere, const Eigen::MatrixXi& F,
                                   const Eigen::MatrixXd& V_target, int steps,
-                                  const CurvatureSpinOptions& options) {
+                                  const CurvatureSpinOptions& options, const CurvatureProgress& progress) {
   if (V_target.rows() != V_sphere.rows()) {
     std::ostringstream s;
     s << "curvature_extrusion: the target has " << V_target.rows() << " vertices, the sphere "
@@ -286,6 +287,7 @@ CurvatureFlow curvature_extrusion(const Eigen::MatrixXd& V_sphere, const Eigen::
     const CurvatureSpinStep st = curvature_spin_step(out.V, F, h, target.area, options);
     out.V = rescale(st.V, F, total, c0);
     out.closure.push_back(st.closure);
+    if (progress) progress(k + 1, steps);
   }
   out.willmore.push_back(face_willmore_energy(out.V, F));
   return out;

@@ -25,6 +25,7 @@
 // exactness constraint a torus step leaves a period (non-zero sum of Ẽ around a handle) that the least
 // squares cannot fit: it shows in CurvatureSpinStep::closure.
 #include <Eigen/Core>
+#include <functional>
 #include <vector>
 
 namespace spinmotor {
@@ -58,10 +59,19 @@ struct CurvatureFlow {
   std::vector<double> closure;   ///< per step closure residual
 };
 
+/// Optional progress report of the flows below, called after each step with (step 1..steps, steps), on
+/// the calling thread. An exception it throws ends the flow and propagates (the Python module's
+/// callbacks use this).
+using CurvatureProgress = std::function<void(int step, int steps)>;
+
+/// The defaults of curvature_extrusion (a weaker regulariser than fairing's; see below).
+inline constexpr CurvatureSpinOptions kExtrusionOptions{.alpha = 0.05};
+
 /// Fairing toward a round sphere (Le Folgoc §6): `steps` steps of δh = −τh (h̄ = (1 − τ) h on the current
 /// surface), 0 < τ ≤ 1; with the area constraint, target areas are the input's (A* = A⁰).
 CurvatureFlow curvature_fairing(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int steps, double tau,
-                                const CurvatureSpinOptions& options = {});
+                                const CurvatureSpinOptions& options = {},
+                                const CurvatureProgress& progress = {});
 
 /// Extrusion (Le Folgoc §6, Ye §5.2): from V_sphere (same F) toward the half-density h* and areas A* of
 /// V_target, `steps` steps with h̄ = h + (h* − h)/(steps − k) at step k (the last step prescribes h*);
@@ -71,6 +81,7 @@ CurvatureFlow curvature_fairing(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
 /// with α = 0.5 and 3.3% / 6.1% with α = 5 and 12 steps (hence the default below).
 CurvatureFlow curvature_extrusion(const Eigen::MatrixXd& V_sphere, const Eigen::MatrixXi& F,
                                   const Eigen::MatrixXd& V_target, int steps,
-                                  const CurvatureSpinOptions& options = {.alpha = 0.05});
+                                  const CurvatureSpinOptions& options = kExtrusionOptions,
+                                  const CurvatureProgress& progress = {});
 
 }  // namespace spinmotor

@@ -1,0 +1,331 @@
+// Python bindings of the spin module: ConformalSnap, SpinTransform, Willmore flow, curvature fairing
+// and extrusion, the Dirac spectrum. Binds and solves release the GIL; progress callbacks take it back
+// for the call (an exception raised in a callback ends the flow and propagates).
+#include <memory>
+#include <mutex>
+
+#include "common.hpp"
+#include "spinmotor/mesh/validate.hpp"
+#include "spinmotor/spin/conformal_snap.hpp"
+#include "spinmotor/spin/curvature_spin_flow.hpp"
+#include "spinmotor/spin/dirac_spectrum.hpp"
+#include "spinmotor/spin/spin_transform.hpp"
+#include "spinmotor/spin/willmore_flow.hpp"
+
+// TODO(pinned-cleanup): bind PinnedCleanup (spin/pinned_cleanup.hpp: PinnedCleanup::bind(rest, pins,
+// options), cleanup(V_edit, V_out) -> PinnedCleanupResult) once the lead's merge lands in this branch;
+// the header does not exist in this tree yet.
+
+namespace spinmotor::python {
+
+namespace {
+
+struct PySnap {
+  std::unique_ptr<ConformalSnap> snap;
+  std::unique_ptr<std::mutex> lock = std::make_unique<std::mutex>();
+};
+struct PySpin {
+  std::unique_ptr<SpinTransform> st;
+  std::unique_ptr<std::mutex> lock = std::make_unique<std::mutex>();
+};
+
+/// A Python callable (or None) as a callback (step, steps), called with the GIL held.
+std::function<void(int, int)> to_progress(const py::object& progress) {
+  if (progress.is_none()) return {};
+  if (!PyCallable_Check(progress.ptr())) throw Error("progress: expected a callable (step, total) or None");
+  return [&progress](int step, int steps) {  // `progress` outlives the solve (caller's frame)
+    py::gil_scoped_acquire gil;
+    progress(step, steps);
+  };
+}
+
+py::dict snap_dict(const ConformalSnapResult& r) {
+  py::dict d;
+  d["V"] = to_numpy(r.V);
+  d["rho"] = to_numpy(r.rho);
+  d["mu"] = to_numpy(r.mu);
+  d["lambda"] = to_numpy(r.lambda);
+  d["eigenvalue"] = r.eigenvalue;
+  d["iterations"] = r.iterations;
+  d["residual"] = r.residual;
+  d["collapsed_faces"] = static_cast<long long>(r.collapsed_faces);
+  d["alignment_scale"] = r.alignment.scale;
+  py::dict t;
+  t["similarity_fit"] = r.timings.similarity_fit;
+  t["bind"] = r.timings.bind;
+  t["eigen"] = r.timings.eigen;
+  t["poisson"] = r.timings.poisson;
+  t["total"] = r.timings.total();
+  d["timings_ms"] = t;
+  return d;
+}
+
+py::dict flow_dict(const CurvatureFlow& r) {
+  py::dict d;
+  d["V"] = to_numpy(r.V);
+  d["willmore"] = r.willmore;
+  d["closure"] = r.closure;
+  return d;
+}
+
+CurvatureSpinOptions curvature_options(double alpha, double beta, double area_epsilon, bool exactness) {
+  return CurvatureSpinOptions{
+      .alpha = alpha, .beta = beta, .area_epsilon = area_epsilon, .exactness = exactness};
+}
+
+}  // namespace
+
+void bind_spin(py::module_& m) {
+  // ---- ConformalSnap -------------------------------------------------------------------------------
+  {
+    const ConformalSnapOptions def{};
+    py::class_<PySnap>(m, "ConformalSnap", R"doc(
+The conformal snap (spin/conformal_snap.hpp): the spin transformation of the rest mesh nearest to an
+edit (optimal rho, Crane et al. 2011 section 7.2), blended with the edit by `tradeoff` and aligned to it.
+
+ConformalSnap(V, F, boundary_tangents=True, rho_smoothing=0, tolerance=1e-10, iterations=50)
+  V (n, 3), F (m, 3): the rest mesh, a connected oriented manifold without degenerate faces or
+  unreferenced vertices. The bind (ordering, symbolic analysis, Laplacian factor) happens here, once.
+  boundary_tangents: open meshes prescribe the edit's boundary tangents; rho_smoothing: passes of
+  rho averaging (for creased edits); tolerance / iterations: the inverse iteration.
+Errors: spinmotor.Error naming the first offending element; numerical Error if a factorization fails.
+)doc")
+        .def(py::init([](py::object V, py::object F, bool boundary_tangents, int rho_smoothing,
+                         double tolerance, int iterations) {
+               const Mesh rest = to_mesh(V, F);
+               ConformalSnapOptions o;
+               o.boundary_tangents = boundary_tangents;
+               o.rho_smoothing = rho_smoothing;
+               o.tolerance = tolerance;
+               o.iterations = iterations;
+               PySnap p;
+               py::gil_scoped_release release;
+               p.snap = std::make_unique<ConformalSnap>(rest, o);
+               return p;
+             }),
+             py::arg("V"), py::arg("F"), py::arg("boundary_tangents") = def.boundary_tangents,
+             py::arg("rho_smoothing") = def.rho_smoothing, py::arg("tolerance") = def.tolerance,
+             py::arg("iterations") = def.iterations)
+        .def(
+            "snap",
+            [](PySnap& p, py::object V_edit, double tradeoff, bool full) -> py::object {
+              const Eigen::MatrixXd E = to_points(V_edit, "V_edit");
+              if (E.rows() != p.snap->rest().V.rows())
+                throw Error("V_edit: has " + std::to_string(E.rows()) + " vertices, the rest mesh " +
+                            std::to_string(p.snap->rest().V.rows()));
+              ConformalSnapResult r;
+              {
+                py::gil_scoped_release release;
+                std::lock_guard<std::mutex> guard(*p.lock);
+                p.snap->set_tradeoff(tradeoff);
+                r = p.snap->snap(E);
+              }
+              if (full) return snap_dict(r);
+              return to_numpy(r.V);
+            },
+            py::arg("V_edit"), py::arg("tradeoff") = def.tradeoff, py::arg("full") = false, R"doc(
+snap(V_edit, tradeoff=1.0, full=False) -> V (or a dict when full=True)
+
+Inputs:  V_edit (n, 3) finite, same vertex order as the rest mesh; tradeoff t in [0, 1]: 0 follows the
+         edit, 1 is conformal (Fig. 21).
+Output:  (n, 3) snapped positions; full=True: dict with V, rho (m,), mu (n, 4), lambda (n, 4),
+         eigenvalue, iterations, residual, collapsed_faces, alignment_scale, timings_ms.
+Errors:  spinmotor.Error for a wrong size, a non-finite coordinate, tradeoff outside [0, 1];
+         numerical Error if the solve fails. The GIL is released.
+)doc");
+  }
+
+  // ---- SpinTransform -------------------------------------------------------------------------------
+  {
+    const SpinTransformOptions def{};
+    py::class_<PySpin>(m, "SpinTransform", R"doc(
+Spin transformation (Crane, Pinkall, Schroeder 2011): bind once, solve per curvature change rho.
+
+SpinTransform(V, F, tolerance=1e-10, iterations=50, krylov=True)
+  V (n, 3), F (m, 3): a connected oriented manifold, no degenerate faces or unreferenced vertices.
+Errors: spinmotor.Error naming the first offender.
+)doc")
+        .def(py::init([](py::object V, py::object F, double tolerance, int iterations, bool krylov) {
+               const Mesh mesh = to_mesh(V, F);
+               SpinTransformOptions o;
+               o.tolerance = tolerance;
+               o.iterations = iterations;
+               o.krylov = krylov;
+               PySpin p;
+               py::gil_scoped_release release;
+               p.st = std::make_unique<SpinTransform>(mesh, o);
+               return p;
+             }),
+             py::arg("V"), py::arg("F"), py::arg("tolerance") = def.tolerance,
+             py::arg("iterations") = def.iterations, py::arg("krylov") = def.krylov)
+        .def(
+            "solve",
+            [](PySpin& p, py::object rho, bool full) -> py::object {
+              const Eigen::VectorXd r = to_vector(rho, "rho");
+              SpinTransformResult out;
+              {
+                py::gil_scoped_release release;
+                std::lock_guard<std::mutex> guard(*p.lock);
+                out = p.st->solve(r);
+              }
+              if (!full) return to_numpy(out.V);
+              py::dict d;
+              d["V"] = to_numpy(out.V);
+              d["lambda"] = to_numpy(out.lambda);
+              d["eigenvalue"] = out.eigenvalue;
+              d["iterations"] = out.iterations;
+              d["residual"] = out.residual;
+              return d;
+            },
+            py::arg("rho"), py::arg("full") = false, R"doc(
+solve(rho, full=False) -> V (or a dict when full=True)
+
+Inputs:  rho: (m,) finite curvature change per face (rho = 0 reproduces the mesh up to similarity).
+Output:  (n, 3) positions (scaled to the input's area); full=True: dict with V, lambda (n, 4),
+         eigenvalue, iterations, residual.
+Errors:  spinmotor.Error for a wrong size or a non-finite entry; numerical Error if a factorization
+         fails or the result is not finite. The GIL is released.
+)doc");
+  }
+
+  // ---- flows ---------------------------------------------------------------------------------------
+  {
+    const WillmoreFlowOptions def{};
+    m.def(
+        "willmore_flow",
+        [](py::object V, py::object F, double tau, int steps, bool keep_positions, py::object progress) {
+          const Mesh mesh = to_mesh(V, F);
+          WillmoreFlowOptions o;
+          o.tau = tau;
+          o.steps = steps;
+          o.keep_positions = keep_positions;
+          const auto cb = to_progress(progress);
+          if (cb) o.progress = [&cb](const WillmoreFlowProgress& p) { cb(p.step, p.steps); };
+          WillmoreFlowResult r;
+          {
+            py::gil_scoped_release release;
+            r = willmore_flow(mesh, o);
+          }
+          py::dict d;
+          d["V"] = to_numpy(r.V);
+          d["willmore"] = to_numpy(r.willmore);
+          d["step_ms"] = to_numpy(r.step_ms);
+          py::list pos;
+          for (const auto& P : r.positions) pos.append(to_numpy(P));
+          d["positions"] = pos;
+          return d;
+        },
+        py::arg("V"), py::arg("F"), py::arg("tau") = def.tau, py::arg("steps") = def.steps,
+        py::arg("keep_positions") = def.keep_positions, py::arg("progress") = py::none(), R"doc(
+Willmore flow by spin transformations (rho = -tau H at every step).
+
+Inputs:  V (n, 3), F (m, 3) (as SpinTransform); tau > 0; steps >= 1; keep_positions: also return each
+         step's positions; progress: optional callable(step, total) called after each step.
+Output:  dict with V (n, 3), willmore (steps + 1 values: before, then after each step), step_ms,
+         positions (list of (n, 3), input first, when keep_positions).
+Errors:  spinmotor.Error for a bad mesh or option; numerical Error if a solve fails; an exception
+         raised by progress ends the flow and propagates. The GIL is released between callbacks.
+)doc");
+  }
+  {
+    const CurvatureSpinOptions def{};
+    m.def(
+        "fair",
+        [](py::object V, py::object F, int steps, double tau, double alpha, double beta, double area_epsilon,
+           bool exactness, py::object progress) {
+          const Mesh mesh = to_mesh(V, F);
+          const auto o = curvature_options(alpha, beta, area_epsilon, exactness);
+          const auto cb = to_progress(progress);
+          CurvatureFlow r;
+          {
+            py::gil_scoped_release release;
+            require(mesh, {.manifold = true, .oriented = true, .closed = true}, "fair");
+            r = curvature_fairing(mesh.V, mesh.F, steps, tau, o, cb);
+          }
+          return flow_dict(r);
+        },
+        py::arg("V"), py::arg("F"), py::arg("steps"), py::arg("tau"), py::arg("alpha") = def.alpha,
+        py::arg("beta") = def.beta, py::arg("area_epsilon") = def.area_epsilon,
+        py::arg("exactness") = def.exactness, py::arg("progress") = py::none(), R"doc(
+Curvature fairing toward a round sphere (Le Folgoc section 6; spin/curvature_spin_flow.hpp).
+
+Inputs:  V (n, 3), F (m, 3): a closed, oriented, manifold mesh; steps >= 0; tau in (0, 1] (each step
+         prescribes (1 - tau) h); alpha > 0, beta >= 0: regulariser weights; area_epsilon: area soft
+         constraint (0 = off); exactness: genus > 0 exactness constraints; progress: optional
+         callable(step, total) after each step.
+Output:  dict with V (n, 3, the input's total area and centroid), willmore (steps + 1 values),
+         closure (per step).
+Errors:  spinmotor.Error for a bad mesh or option; an exception raised by progress propagates.
+)doc");
+    m.def(
+        "extrude",
+        [](py::object V_sphere, py::object F, py::object V_target, int steps, double alpha, double beta,
+           double area_epsilon, bool exactness, py::object progress) {
+          const Mesh sphere = to_mesh(V_sphere, F, true, "V_sphere", "F");
+          const Eigen::MatrixXd T = to_points(V_target, "V_target");
+          if (T.rows() != sphere.V.rows())
+            throw Error("V_target: has " + std::to_string(T.rows()) + " vertices, V_sphere " +
+                        std::to_string(sphere.V.rows()) + " (same connectivity required)");
+          const auto o = curvature_options(alpha, beta, area_epsilon, exactness);
+          const auto cb = to_progress(progress);
+          CurvatureFlow r;
+          {
+            py::gil_scoped_release release;
+            require(Mesh{T, sphere.F, {}, {}}, {.manifold = true, .oriented = true, .closed = true},
+                    "extrude");
+            r = curvature_extrusion(sphere.V, sphere.F, T, steps, o, cb);
+          }
+          return flow_dict(r);
+        },
+        py::arg("V_sphere"), py::arg("F"), py::arg("V_target"), py::arg("steps"),
+        py::arg("alpha") = kExtrusionOptions.alpha, py::arg("beta") = kExtrusionOptions.beta,
+        py::arg("area_epsilon") = kExtrusionOptions.area_epsilon,
+        py::arg("exactness") = kExtrusionOptions.exactness, py::arg("progress") = py::none(), R"doc(
+Curvature extrusion (Le Folgoc section 6, Ye section 5.2): from V_sphere (same F) toward the curvature
+half-density and face areas of V_target, in `steps` ramped steps (e.g. back from fair()'s result).
+
+Inputs:  V_sphere, V_target (n, 3); F (m, 3) closed, oriented, manifold; steps >= 1; alpha (default
+         0.05, weaker than fairing's), beta, area_epsilon, exactness as fair(); progress as fair().
+Output:  dict with V (n, 3, the target's total area and centroid), willmore, closure.
+Errors:  spinmotor.Error for mismatched sizes, a bad mesh or option.
+)doc");
+  }
+
+  // ---- Dirac spectrum ------------------------------------------------------------------------------
+  {
+    const DiracSpectrumOptions def{};
+    m.def(
+        "dirac_spectrum",
+        [](py::object V, py::object F, py::object rho, int count, bool eigenvectors) {
+          const Mesh mesh = to_mesh(V, F);
+          Eigen::VectorXd r;
+          if (!rho.is_none()) r = to_vector(rho, "rho", mesh.F.rows());
+          DiracSpectrumOptions o;
+          o.count = count;
+          o.eigenvectors = eigenvectors;
+          DiracSpectrum s;
+          {
+            py::gil_scoped_release release;
+            s = dirac_spectrum(mesh.V, mesh.F, r, o);
+          }
+          py::dict d;
+          d["eigenvalues"] = to_numpy(s.eigenvalues);
+          if (eigenvectors) d["eigenvectors"] = to_numpy(s.eigenvectors);
+          d["constant_kernel"] = s.constant_kernel;
+          d["iterations"] = s.iterations;
+          return d;
+        },
+        py::arg("V"), py::arg("F"), py::arg("rho") = py::none(), py::arg("count") = def.count,
+        py::arg("eigenvectors") = def.eigenvectors, R"doc(
+The eigenvalues of the spin transformation's Dirac problem nearest 0 (spin/dirac_spectrum.hpp).
+
+Inputs:  V (n, 3), F (m, 3): closed, connected, oriented manifold; rho: optional (m,) curvature change
+         (default 0); count: number of eigenvalues; eigenvectors: also return them.
+Output:  dict with eigenvalues (count,) by increasing |gamma|, eigenvectors (4n, count) when asked,
+         constant_kernel (4 when rho = 0: the constants, excluded), iterations.
+Errors:  spinmotor.Error for a bad mesh or option; numerical Error if the iteration fails.
+)doc");
+  }
+}
+
+}  // namespace spinmotor::python

@@ -1,0 +1,160 @@
+"""Spin transformations, the conformal snap, flows and the Dirac spectrum (known values), progress
+callbacks."""
+import numpy as np
+import pytest
+
+import spinmotor as sm
+from conftest import capsule_handles
+
+
+def similarity(V):
+    M = sm.Motor.from_rotation((1, 2, -0.5), 40, translate=(0.3, -2.0, 5.0))
+    return 1.7 * M.apply(V)
+
+
+def diag(V):
+    return np.linalg.norm(V.max(axis=0) - V.min(axis=0))
+
+
+def test_snap_of_a_similarity_returns_it():
+    V, F = sm.icosphere(3)
+    E = similarity(V)
+    snap = sm.ConformalSnap(V, F)
+    out = snap.snap(E)
+    assert np.abs(out - E).max() / diag(E) < 1e-8
+    r = snap.snap(np.asfortranarray(E), full=True)
+    assert np.abs(r["rho"]).max() < 1e-8
+    np.testing.assert_allclose(r["V"], out, atol=1e-12)
+    assert set(r) >= {"V", "rho", "mu", "lambda", "eigenvalue", "iterations", "residual", "timings_ms"}
+
+
+def test_snap_brings_a_bent_capsule_near_conformal(capsule):
+    V, F = capsule
+    d = sm.SurfaceHarmonicDeformer(V, F, handles=capsule_handles(V))
+    E = d.pose([sm.Motor(), sm.Motor.from_rotation((1, 0, 0), 80, about=(0, 0, 2.5))])
+    snap = sm.ConformalSnap(V, F)
+    q_edit = sm.metrics(V, E, F)["q_mean"]
+    q_snap = sm.metrics(V, snap.snap(E), F)["q_mean"]
+    q_half = sm.metrics(V, snap.snap(E, tradeoff=0.5), F)["q_mean"]
+    assert q_snap < q_half < q_edit
+    assert q_snap < 1.0 + 0.1 * (q_edit - 1.0)
+    def rms(X):
+        return np.sqrt(((X - E) ** 2).sum(axis=1).mean())
+    assert rms(snap.snap(E, tradeoff=0.0)) < rms(snap.snap(E, tradeoff=1.0))  # 0 follows the edit
+    with pytest.raises(sm.Error, match="tradeoff"):
+        snap.snap(E, tradeoff=1.5)
+    with pytest.raises(sm.Error, match="V_edit"):
+        snap.snap(E[:10])
+
+
+def test_spin_transform_rho_zero_is_the_mesh(sphere):
+    V, F = sphere
+    st = sm.SpinTransform(V, F)
+    out = st.solve(np.zeros(len(F)))
+    np.testing.assert_allclose(out, V, atol=1e-8)
+    r = st.solve(0.3 * np.sin(np.arange(len(F))), full=True)
+    assert r["V"].shape == V.shape and r["lambda"].shape == (len(V), 4)
+    with pytest.raises(sm.Error, match="rho"):
+        st.solve(np.zeros(len(F) + 1))
+    with pytest.raises(sm.Error, match="not finite"):
+        st.solve(np.full(len(F), np.nan))
+
+
+def test_spin_rejects_open_or_broken_meshes():
+    V, F = sm.tube(1.0, 2.0, 4, 8)
+    with pytest.raises(sm.Error, match="closed"):
+        sm.fair(V, F, steps=1, tau=0.5)
+    V2, F2 = sm.icosphere(1)
+    with pytest.raises(sm.Error):
+        sm.SpinTransform(V2, np.vstack([F2, F2[:1]]))
+
+
+def test_fair_with_progress_and_extrude_back():
+    V, F = sm.icosphere(2)
+    E = V * np.array([1.0, 1.0, 1.6])  # an ellipsoid
+    seen = []
+    r = sm.fair(E, F, steps=3, tau=0.5, progress=lambda s, n: seen.append((s, n)))
+    assert seen == [(1, 3), (2, 3), (3, 3)]
+    w = r["willmore"]
+    assert len(w) == 4 and w[-1] < w[0]
+    back = sm.extrude(r["V"], F, E, steps=4)
+    assert sm.metrics(E, back["V"], F, alignment="similarity", willmore=False)["rms"] < 0.02
+
+
+def test_progress_exception_propagates():
+    V, F = sm.icosphere(1)
+
+    class Stop(Exception):
+        pass
+
+    def stop(step, total):
+        raise Stop()
+
+    with pytest.raises(Stop):
+        sm.fair(V * [1, 1, 1.3], F, steps=3, tau=0.5, progress=stop)
+    with pytest.raises(sm.Error, match="progress"):
+        sm.fair(V, F, steps=1, tau=0.5, progress=3)
+
+
+def test_willmore_flow_decreases_energy():
+    V, F = sm.icosphere(2)
+    E = V * np.array([1.0, 1.0, 1.5])
+    seen = []
+    r = sm.willmore_flow(E, F, tau=0.05, steps=3, progress=lambda s, n: seen.append(s))
+    assert seen == [1, 2, 3] and len(r["willmore"]) == 4 and len(r["positions"]) == 4
+    assert r["willmore"][-1] < r["willmore"][0]
+
+
+def test_dirac_spectrum_of_a_sphere(sphere):
+    V, F = sphere
+    s = sm.dirac_spectrum(V, F, count=4)
+    assert s["eigenvalues"].shape == (4,) and s["constant_kernel"] == 4
+    assert np.all(np.diff(np.abs(s["eigenvalues"])) >= -1e-12)
+
+
+def test_gil_is_released_during_snaps():
+    """Two threads snapping at once finish (and agree with the serial result)."""
+    import threading
+    V, F = sm.icosphere(3)
+    E = similarity(V)
+    snaps = [sm.ConformalSnap(V, F) for _ in range(2)]
+    out = [None, None]
+
+    def run(i):
+        out[i] = snaps[i].snap(E)
+
+    ts = [threading.Thread(target=run, args=(i,)) for i in range(2)]
+    for t in ts:
+        t.start()
+    for t in ts:
+        t.join()
+    np.testing.assert_allclose(out[0], out[1], atol=1e-12)
+
+
+def test_python_runs_while_a_snap_solves():
+    """The GIL is released inside the solve: the main thread keeps running Python meanwhile, so no
+    gap between its ticks is anywhere near one solve's duration."""
+    import threading
+    import time
+    V, F = sm.icosphere(5)  # 10,242 vertices
+    snap = sm.ConformalSnap(V, F)
+    E = similarity(V)
+    t0 = time.perf_counter()
+    snap.snap(E)
+    solve = time.perf_counter() - t0
+    done = threading.Event()
+
+    def run():
+        for _ in range(3):
+            snap.snap(E)
+        done.set()
+
+    t = threading.Thread(target=run)
+    last, gap = time.perf_counter(), 0.0
+    t.start()
+    while not done.is_set():
+        time.sleep(0.001)
+        now = time.perf_counter()
+        gap, last = max(gap, now - last), now
+    t.join()
+    assert gap < 0.5 * solve, (gap, solve)
