@@ -30,6 +30,7 @@
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
 #include "spinmotor/spin/curvature_spin_flow.hpp"
+#include "spinmotor/spin/pinned_cleanup.hpp"
 
 namespace {
 

@@ -27,41 +27,40 @@ void snap_pinned(const Mesh& rest, const Mesh& edited, const SnapPinnedArgs& a) 
   write_mesh(a.out, out);
   const QuasiConformalSummary q0 = quasi_conformal_summary(rest.V, rest.F, edited.V);
   const QuasiConformalSummary q1 = quasi_conformal_summary(rest.V, rest.F, V);
-  const char* kept = r.kept == CleanupKeep::Volume ? "volume" : r.kept == CleanupKeep::Area ? "area" : "none";
+  const std::string kept(option_name(r.kept));
   const double before = r.rest_measure != 0 ? r.edit_measure / r.rest_measure : 1.0;
   auto finite = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
-  const std::string kept(option_name(r.kept));
-  std::cout << nlohmann::json{{"mode", "pinned"},
-                              {"vertices", rest.V.rows()},
-                              {"faces", rest.F.rows()},
-                              {"pins", pc.pins().size()},
-                              {"keep", kept},
-                              {"q_mean_before", finite(q0.q_mean)},
-                              {"q_max_before", finite(q0.q_max)},
-                              {"q_mean_after", finite(q1.q_mean)},
-                              {"q_max_after", finite(q1.q_max)},
-                              {"measure_ratio_before", before},
-                              {"measure_ratio_after", r.measure_ratio()},
-                              {"pin_error", r.pin_error},
-                              {"iterations", r.iterations},
-                              {"converged", r.converged},
-                              {"bind_ms", pc.bind_ms()},
-                              {"cleanup_ms", r.total_ms}}
-                   .dump(2)
-            << '\n';
-}
-else if (!a.quiet) {
-  std::printf("snap (pinned): %lld vertices, %lld faces, %lld pins, keeping the %s\n",
-              static_cast<long long>(rest.V.rows()), static_cast<long long>(rest.F.rows()),
-              static_cast<long long>(pc.pins().size()), kept);
-  std::printf("  Q_mean before %.6f, after %.6f (Q_max %.4g -> %.4g)\n", q0.q_mean, q1.q_mean, q0.q_max,
-              q1.q_max);
-  std::printf("  %s ratio to rest: before %.4f, after %.6f; pin error %.3g of the diagonal\n", kept, before,
-              r.measure_ratio(), r.pin_error);
-  std::printf("  %d iterations%s; bind %.1f ms, cleanup %.1f ms\n", r.iterations,
-              r.converged ? "" : " (not converged)", pc.bind_ms(), r.total_ms);
-  std::printf("  wrote %s\n", a.out.c_str());
-}
+  if (a.json) {
+    std::cout << nlohmann::json{{"mode", "pinned"},
+                                {"vertices", rest.V.rows()},
+                                {"faces", rest.F.rows()},
+                                {"pins", pc.pins().size()},
+                                {"keep", kept},
+                                {"q_mean_before", finite(q0.q_mean)},
+                                {"q_max_before", finite(q0.q_max)},
+                                {"q_mean_after", finite(q1.q_mean)},
+                                {"q_max_after", finite(q1.q_max)},
+                                {"measure_ratio_before", before},
+                                {"measure_ratio_after", r.measure_ratio()},
+                                {"pin_error", r.pin_error},
+                                {"iterations", r.iterations},
+                                {"converged", r.converged},
+                                {"bind_ms", pc.bind_ms()},
+                                {"cleanup_ms", r.total_ms}}
+                     .dump(2)
+              << '\n';
+  } else if (!a.quiet) {
+    std::printf("snap (pinned): %lld vertices, %lld faces, %lld pins, keeping the %s\n",
+                static_cast<long long>(rest.V.rows()), static_cast<long long>(rest.F.rows()),
+                static_cast<long long>(pc.pins().size()), kept.c_str());
+    std::printf("  Q_mean before %.6f, after %.6f (Q_max %.4g -> %.4g)\n", q0.q_mean, q1.q_mean, q0.q_max,
+                q1.q_max);
+    std::printf("  %s ratio to rest: before %.4f, after %.6f; pin error %.3g of the diagonal\n", kept.c_str(),
+                before, r.measure_ratio(), r.pin_error);
+    std::printf("  %d iterations%s; bind %.1f ms, cleanup %.1f ms\n", r.iterations,
+                r.converged ? "" : " (not converged)", pc.bind_ms(), r.total_ms);
+    std::printf("  wrote %s\n", a.out.c_str());
+  }
 }
 
 }  // namespace spinmotor::cli

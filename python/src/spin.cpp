@@ -7,14 +7,14 @@
 #include "common.hpp"
 #include "spinmotor/mesh/validate.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
+#include "spinmotor/spin/pinned_cleanup.hpp"
+#include "spinmotor/deform/rig_pins.hpp"
+#include "spinmotor/core/option_names.hpp"
 #include "spinmotor/spin/curvature_spin_flow.hpp"
 #include "spinmotor/spin/dirac_spectrum.hpp"
 #include "spinmotor/spin/spin_transform.hpp"
 #include "spinmotor/spin/willmore_flow.hpp"
 
-// TODO(pinned-cleanup): bind PinnedCleanup (spin/pinned_cleanup.hpp: PinnedCleanup::bind(rest, pins,
-// options), cleanup(V_edit, V_out) -> PinnedCleanupResult) once the lead's merge lands in this branch;
-// the header does not exist in this tree yet.
 
 namespace spinmotor::python {
 
@@ -22,6 +22,10 @@ namespace {
 
 struct PySnap {
   std::unique_ptr<ConformalSnap> snap;
+  std::unique_ptr<std::mutex> lock = std::make_unique<std::mutex>();
+};
+struct PyCleanup {
+  std::unique_ptr<PinnedCleanup> cleanup;
   std::unique_ptr<std::mutex> lock = std::make_unique<std::mutex>();
 };
 struct PySpin {
@@ -76,6 +80,86 @@ CurvatureSpinOptions curvature_options(double alpha, double beta, double area_ep
 }  // namespace
 
 void bind_spin(py::module_& m) {
+  // ---- PinnedCleanup (the pose-keeping cleanup) ----------------------------------------------------
+  {
+    const PinnedCleanupOptions def;
+    py::class_<PyCleanup>(m, "PinnedCleanup", R"doc(
+The pose-keeping conformal cleanup (spin/pinned_cleanup.hpp): the pinned vertices stay exactly where the
+edit put them; the others are placed as conformally as possible (low quasi-conformal error Q against the
+rest mesh) at the rest volume (closed meshes) or area (open ones).
+
+PinnedCleanup(V, F, pins, keep="auto", max_iterations=100, tolerance=1e-4)
+  V (n, 3), F (m, 3): the rest mesh; pins: vertex indices (order and repeats do not matter). keep: auto
+  (volume if closed, else area), volume, area or none. All factorization happens here, once.
+Errors: spinmotor.Error for empty or out-of-range pins, a connected component without a pin (named),
+keep="volume" on an open mesh, a degenerate rest face; numerical Error if the factorization fails.
+)doc")
+        .def(py::init([](py::object V, py::object F, py::object pins, const std::string& keep, int max_iterations,
+                         double tolerance) {
+               const Mesh rest = to_mesh(V, F);
+               const Eigen::VectorXi p = to_int_vector(pins, "pins");
+               PinnedCleanupOptions o;
+               o.keep = parse_option<CleanupKeep>(keep, "keep: ");
+               o.max_iterations = max_iterations;
+               o.tolerance = tolerance;
+               PyCleanup c;
+               py::gil_scoped_release release;
+               c.cleanup = std::make_unique<PinnedCleanup>(PinnedCleanup::bind(rest, p, o));
+               return c;
+             }),
+             py::arg("V"), py::arg("F"), py::arg("pins"), py::arg("keep") = std::string(option_name(def.keep)),
+             py::arg("max_iterations") = def.max_iterations, py::arg("tolerance") = def.tolerance)
+        .def(
+            "cleanup",
+            [](PyCleanup& c, py::object V_edit, bool full) -> py::object {
+              const Eigen::MatrixXd E = to_points(V_edit, "V_edit");
+              Eigen::MatrixXd V;
+              PinnedCleanupResult r;
+              {
+                py::gil_scoped_release release;
+                std::lock_guard<std::mutex> guard(*c.lock);
+                r = c.cleanup->cleanup(E, V);
+              }
+              if (!full) return to_numpy(V);
+              py::dict d;
+              d["V"] = to_numpy(V);
+              d["iterations"] = r.iterations;
+              d["converged"] = r.converged;
+              d["all_pinned"] = r.all_pinned;
+              d["keep"] = std::string(option_name(r.kept));
+              d["measure_ratio"] = r.measure_ratio();
+              d["edit_measure_ratio"] = r.rest_measure != 0 ? r.edit_measure / r.rest_measure : 1.0;
+              d["pin_error"] = r.pin_error;
+              d["energy"] = r.energy;
+              d["total_ms"] = r.total_ms;
+              return d;
+            },
+            py::arg("V_edit"), py::arg("full") = false, R"doc(
+cleanup(V_edit, full=False) -> V (n, 3), or with full=True a dict: V, iterations, converged, all_pinned,
+keep, measure_ratio (kept volume or area / rest), edit_measure_ratio, pin_error, energy (per iteration),
+total_ms. V_edit (n, 3): the edit, same connectivity as the rest mesh. No factorization per call.
+)doc")
+        .def_property_readonly("pins",
+                               [](const PyCleanup& c) {
+                                 const Eigen::VectorXi& p = c.cleanup->pins();
+                                 return std::vector<int>(p.data(), p.data() + p.size());
+                               })
+        .def_property_readonly("bind_ms", [](const PyCleanup& c) { return c.cleanup->bind_ms(); });
+    m.def(
+        "pins_from_weights",
+        [](py::object V, py::object W, double threshold, double margin) {
+          const Eigen::MatrixXd P = to_points(V, "V");
+          const Eigen::MatrixXd Wm = py::cast<Eigen::MatrixXd>(W);
+          const Eigen::VectorXi p = pins_from_weights(P, Wm, threshold, margin);
+          return std::vector<int>(p.data(), p.data() + p.size());
+        },
+        py::arg("V"), py::arg("W"), py::arg("threshold") = 0.999, py::arg("margin") = 0.0, R"doc(
+pins_from_weights(V, W, threshold=0.999, margin=0.0) -> pins: the vertices whose dominant skin weight
+(W: n×B) is at least `threshold` and that lie farther than `margin` from every vertex below it (the
+bones' rigid parts, each joint left room). Errors: spinmotor.Error naming the bad row or parameter.
+)doc");
+  }
+
   // ---- ConformalSnap -------------------------------------------------------------------------------
   {
     const ConformalSnapOptions def{};

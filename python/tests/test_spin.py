@@ -158,3 +158,41 @@ def test_python_runs_while_a_snap_solves():
         gap, last = max(gap, now - last), now
     t.join()
     assert gap < 0.5 * solve, (gap, solve)
+
+
+def volume(V, F):
+    a, b, c = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
+    return np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0
+
+
+def test_pinned_cleanup_keeps_the_pins_and_the_volume(capsule):
+    V, F = capsule
+    handles = capsule_handles(V)
+    d = sm.SurfaceHarmonicDeformer(V, F, handles=handles)
+    E = d.pose([sm.Motor(), sm.Motor.from_rotation((1, 0, 0), 80, about=(0, 0, 2.5))])
+    pins = np.concatenate([np.asarray(ix) for _, ix in handles])
+    c = sm.PinnedCleanup(V, F, pins)
+    r = c.cleanup(E, full=True)
+    out = r["V"]
+    assert np.array_equal(out[pins], E[pins])  # pins are copied bit for bit
+    q_edit = sm.metrics(V, E, F)["q_mean"]
+    q_clean = sm.metrics(V, out, F)["q_mean"]
+    assert q_clean < q_edit
+    assert abs(volume(out, F) / volume(V, F) - 1) < 1e-6  # the rest volume (closed capsule)
+    assert r["keep"] == "volume" and r["pin_error"] == 0.0
+    assert sorted(c.pins) == sorted(set(pins.tolist()))
+
+
+def test_pinned_cleanup_errors(capsule):
+    V, F = capsule
+    with pytest.raises(sm.Error, match="keep"):
+        sm.PinnedCleanup(V, F, [0, 1], keep="mass")
+    with pytest.raises(sm.Error):
+        sm.PinnedCleanup(V, F, [])
+    with pytest.raises(sm.Error):
+        sm.PinnedCleanup(V, F, [len(V)])
+    W = np.zeros((len(V), 2))
+    W[:, 0] = (V[:, 2] < 1.5).astype(float)
+    W[:, 1] = 1 - W[:, 0]
+    pins = sm.pins_from_weights(V, W, 0.999, 0.0)
+    assert len(pins) == len(V)  # every vertex is one bone's with weight 1
