@@ -85,7 +85,8 @@ nlohmann::json info_json(const spinmotor::GltfRig& rig) {
   // Bind pose = rest pose? Largest distance of the rest-pose skinning from POSITION, / bbox diagonal.
   const Eigen::MatrixXd& V = rig.mesh.V;
   const double diag = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
-  j["rest_pose_error"] = (spinmotor::skin_positions(rig, -1, 0.0) - V).rowwise().norm().maxCoeff() / diag;
+  j["rest_pose_error"] =
+      std::sqrt((spinmotor::skin_positions(rig, -1, 0.0) - V).rowwise().squaredNorm().maxCoeff()) / diag;
   j["warnings"] = rig.warnings;
   return j;
 }

@@ -92,7 +92,8 @@ TEST_CASE("every deformer poses the same through AnyDeformer, with named, anchor
     auto b = [&] { return SplineDeformer::bind(tube, rig, o); };
     const std::vector<ga::Mot> m = {kIdentity, bend, bend};
     same_through_any(b(), b(), m);
-    const auto& c = b().controls();
+    const SplineDeformer bound = b();
+    const auto& c = bound.controls();
     REQUIRE(c.size() == 3);
     CHECK(c[1].name == "b");
     CHECK((c[1].anchor - 0.5 * (c_base + c_tip)).norm() < 1e-12);

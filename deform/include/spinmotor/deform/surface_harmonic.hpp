@@ -24,7 +24,7 @@ class SurfaceHarmonicDeformer {
     HarmonicWeights weights = HarmonicWeights::MeanValue;
     ga::Blend blend = ga::Blend::Log;
     /// Optional rest-pose motors of the handles (§III.A binding); empty = identities.
-    std::vector<ga::Mot> rest_motors;
+    std::vector<ga::Mot> rest_motors{};
   };
 
   /// Throws Error for bad handles (check_handles), a degenerate face, a connected component without
