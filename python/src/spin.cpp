@@ -5,16 +5,15 @@
 #include <mutex>
 
 #include "common.hpp"
+#include "spinmotor/core/option_names.hpp"
+#include "spinmotor/deform/rig_pins.hpp"
 #include "spinmotor/mesh/validate.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
-#include "spinmotor/spin/pinned_cleanup.hpp"
-#include "spinmotor/deform/rig_pins.hpp"
-#include "spinmotor/core/option_names.hpp"
 #include "spinmotor/spin/curvature_spin_flow.hpp"
 #include "spinmotor/spin/dirac_spectrum.hpp"
+#include "spinmotor/spin/pinned_cleanup.hpp"
 #include "spinmotor/spin/spin_transform.hpp"
 #include "spinmotor/spin/willmore_flow.hpp"
-
 
 namespace spinmotor::python {
 
@@ -94,8 +93,8 @@ PinnedCleanup(V, F, pins, keep="auto", max_iterations=100, tolerance=1e-4)
 Errors: spinmotor.Error for empty or out-of-range pins, a connected component without a pin (named),
 keep="volume" on an open mesh, a degenerate rest face; numerical Error if the factorization fails.
 )doc")
-        .def(py::init([](py::object V, py::object F, py::object pins, const std::string& keep, int max_iterations,
-                         double tolerance) {
+        .def(py::init([](py::object V, py::object F, py::object pins, const std::string& keep,
+                         int max_iterations, double tolerance) {
                const Mesh rest = to_mesh(V, F);
                const Eigen::VectorXi p = to_int_vector(pins, "pins");
                PinnedCleanupOptions o;
@@ -107,7 +106,8 @@ keep="volume" on an open mesh, a degenerate rest face; numerical Error if the fa
                c.cleanup = std::make_unique<PinnedCleanup>(PinnedCleanup::bind(rest, p, o));
                return c;
              }),
-             py::arg("V"), py::arg("F"), py::arg("pins"), py::arg("keep") = std::string(option_name(def.keep)),
+             py::arg("V"), py::arg("F"), py::arg("pins"),
+             py::arg("keep") = std::string(option_name(def.keep)),
              py::arg("max_iterations") = def.max_iterations, py::arg("tolerance") = def.tolerance)
         .def(
             "cleanup",
