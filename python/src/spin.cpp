@@ -149,7 +149,7 @@ total_ms. V_edit (n, 3): the edit, same connectivity as the rest mesh. No factor
         "pins_from_weights",
         [](py::object V, py::object W, double threshold, double margin) {
           const Eigen::MatrixXd P = to_points(V, "V");
-          const Eigen::MatrixXd Wm = py::cast<Eigen::MatrixXd>(W);
+          const Eigen::MatrixXd Wm = to_matrix(W, "W", P.rows(), -1);
           const Eigen::VectorXi p = pins_from_weights(P, Wm, threshold, margin);
           return std::vector<int>(p.data(), p.data() + p.size());
         },

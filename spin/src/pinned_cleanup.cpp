@@ -15,6 +15,7 @@
 #include <string>
 
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/parallel.hpp"
 #include "spinmotor/linalg/dirichlet_solver.hpp"
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
@@ -30,8 +31,6 @@ using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
-
-constexpr long kParallelMin = 8192;  // below this many items a parallel loop costs more than it saves
 
 /// Rest data of a face with at least one free corner.
 struct ActiveFace {
@@ -135,7 +134,7 @@ double PinnedCleanup::Impl::measure_active(const Eigen::MatrixXd& X) const {
   const bool vol = keep == CleanupKeep::Volume;
   double s = 0;
   const long m = static_cast<long>(active.size());
-#pragma omp parallel for schedule(static) reduction(+ : s) if (m > kParallelMin)
+#pragma omp parallel for schedule(static) reduction(+ : s) if (parallel::worth(m, parallel::kMotorBlend))
   for (long k = 0; k < m; ++k) {
     const ActiveFace& af = active[k];
     const Vec3 a = X.row(af.v[0]), b = X.row(af.v[1]), c = X.row(af.v[2]);
@@ -294,7 +293,9 @@ PinnedCleanup PinnedCleanup::bind(const Mesh& rest, std::span<const int> pins,
     }
   }
   m.cell_offset.assign(1, 0);
+  bool cells_ok = m.options.vertex_cell_weight > 0 || m.options.harmonic_start;
   for (const int i : m.cell_vertex) {
+    if (!cells_ok) break;
     double d = 0;
     for (Eigen::SparseMatrix<double>::InnerIterator itL(L, i); itL; ++itL) {
       const int j = static_cast<int>(itL.row());
@@ -305,13 +306,26 @@ PinnedCleanup PinnedCleanup::bind(const Mesh& rest, std::span<const int> pins,
     }
     m.cell_offset.push_back(static_cast<int>(m.cell_nbr.size()));
     if (!(d > 0)) {
-      std::ostringstream s;
-      s << "PinnedCleanup: the cotangent weights around vertex " << i << " sum to " << d
-        << " (no similarity can be fitted to its one-ring; use vertex_cell_weight = 0)";
-      throw Error(s.str());
+      // The cotangent weights around vertex i sum to d ≤ 0 (a one-ring of obtuse triangles, common on
+      // coarse game meshes): no similarity can be fitted to that cell. The cleanup then uses face cells
+      // only (vertex_cell_weight = 0, no harmonic start), which every non-degenerate mesh allows;
+      // options() reports the options in effect.
+      cells_ok = false;
+      break;
     }
     m.cell_d.push_back(d);
     m.cell_dsum += d;
+  }
+  if (!cells_ok) {
+    m.options.vertex_cell_weight = 0;
+    m.options.harmonic_start = false;
+    m.cell_offset.assign(1, 0);
+    m.cell_nbr.clear();
+    m.cell_w.clear();
+    m.cell_d.clear();
+    m.cell_dsum = 0;
+    m.cell_vertex.clear();
+    m.cell_of.assign(n, -1);
   }
   m.cell_T.resize(m.cell_vertex.size());
   m.T.resize(m.active.size());
@@ -376,7 +390,7 @@ PinnedCleanupResult PinnedCleanup::cleanup(const Eigen::MatrixXd& V_edit, Eigen:
     long fallback = 0;
     if (faces) {
       // Local step, face cells: T_f = the conformal part of J_f in the frames of the rest and current planes.
-#pragma omp parallel for schedule(static) reduction(+ : energy, fallback) if (na > kParallelMin)
+#pragma omp parallel for schedule(static) reduction(+ : energy, fallback) if (parallel::worth(na, parallel::kMotorBlend))
       for (long k = 0; k < na; ++k) {
         const ActiveFace& af = m.active[k];
         const Vec3 v0 = V.row(af.v[0]), v1 = V.row(af.v[1]), v2 = V.row(af.v[2]);
@@ -400,7 +414,7 @@ PinnedCleanupResult PinnedCleanup::cleanup(const Eigen::MatrixXd& V_edit, Eigen:
       // Local step, vertex cells: T_i = s_i R_i, the best similarity of the cotangent-weighted spokes
       // (3D Procrustes with scale): S_i = Σ_j w_ij e_ij e'_ijᵀ = U Σ Wᵀ, R_i = W diag(1, 1, ±1) Uᵀ,
       // s_i = tr(R_i S_i) / Σ_j w_ij |e_ij|²; cell energy Σ w|e'|² − s_i tr(R_i S_i).
-#pragma omp parallel for schedule(static) reduction(+ : energy_v, fallback) if (nc > kParallelMin)
+#pragma omp parallel for schedule(static) reduction(+ : energy_v, fallback) if (parallel::worth(nc, parallel::kMotorBlend))
       for (long k = 0; k < nc; ++k) {
         const int i = m.cell_vertex[k];
         const Vec3 vi = V.row(i), pi = m.V0.row(i);
@@ -517,7 +531,7 @@ PinnedCleanupResult PinnedCleanup::cleanup(const Eigen::MatrixXd& V_edit, Eigen:
     // Right-hand side b_i (face cells: Σ A_f T_f ∇φ_i; vertex cells: ½ Σ_j w_ij (T_i + T_j)(p_i − p_j))
     // and the constraint gradient g_i, per free vertex.
     double gV = 0;
-#pragma omp parallel for schedule(static) reduction(+ : gV) if (nfl > kParallelMin)
+#pragma omp parallel for schedule(static) reduction(+ : gV) if (parallel::worth(nfl, parallel::kMotorBlend))
     for (long k = 0; k < nfl; ++k) {
       const int i = m.free[k];
       Vec3 b = Vec3::Zero(), g = Vec3::Zero();

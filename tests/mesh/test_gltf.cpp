@@ -634,7 +634,7 @@ TEST_CASE("spinmotor rig info and pose on the tiny rig, bad input exits 2 and wr
   // Bad input: nothing written.
   std::ofstream(tmp.path / "junk.gltf") << "{";
   for (const std::string args : {"--frames 0", "--frames 2 --time 1", "--frames 2 --blend foo",
-                                 "--frames 2 --animation 7", "--frames 2 --cleanup pinned"}) {
+                                 "--frames 2 --animation 7", "--frames 2 --cleanup sideways"}) {
     INFO(args);
     r = spinmotor_test::run_cli(
         tmp.path, "rig pose " + tmp.file("bar.gltf") + " " + args + " --out " + tmp.file("bad/f.obj"));
