@@ -162,7 +162,7 @@ TEST_CASE("Boundary prescription: identity, rotated tangents, a square made roun
   SECTION("all tangents rotated by one rotation rotate the disk rigidly") {
     // A constant λ = the rotation satisfies (D − 0)λ = 0 and every boundary condition, so the result
     // is the disk rotated about its vertex mean (measured deviation 1.5e-14 for both axes).
-    for (const Eigen::Vector3d axis : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 2, 0.5).normalized()}) {
+    for (const Eigen::Vector3d& axis : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 2, 0.5).normalized()}) {
       INFO("axis " << axis.transpose());
       SpinBoundaryTangents bt = boundary_tangents(d.V, d.F);
       const Eigen::Matrix3d R = Eigen::AngleAxisd(0.6, axis).toRotationMatrix();

@@ -23,7 +23,7 @@ namespace spinmotor {
 struct FabrikOptions {
   double tolerance = 1e-4;  ///< distance of the end joint to the target (units of the chain)
   int max_iterations = 50;  ///< forward + backward passes
-  std::optional<ga::Rot> end_rotation;
+  std::optional<ga::Rot> end_rotation{};
 };
 
 struct FabrikResult {

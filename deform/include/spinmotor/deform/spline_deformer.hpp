@@ -29,9 +29,9 @@ class SplineDeformer {
     int keys = 4;    ///< number of key motors n (Quadratic: 3)
     HarmonicWeights weights = HarmonicWeights::MeanValue;
     /// Optional rest-pose key motors (§III.A binding); empty = identities.
-    std::vector<ga::Mot> rest_keys;
+    std::vector<ga::Mot> rest_keys{};
     /// Names of the key controls (size `keys`); empty: "key0", "key1", ...
-    std::vector<std::string> key_names;
+    std::vector<std::string> key_names{};
   };
 
   /// handles: exactly two, {from (λ = 0), to (λ = 1)}. Throws Error for a bad basis/key count
