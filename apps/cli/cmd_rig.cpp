@@ -137,15 +137,17 @@ struct Cleanup {
     if (mode == "none") return;
     const spinmotor::RigSkin skin = spinmotor::rig_skin(rig);
     const Eigen::MatrixXd W(skin.weights);
-    if (!(margin >= 0)) margin = spinmotor::default_pin_margin(rig.mesh.V, W, skin.bones, threshold);
-    const Eigen::VectorXi pins = spinmotor::pins_from_weights(rig.mesh.V, W, threshold, margin);
+    // margin < 0: per bone, a quarter of the widest blend band of the joints it takes part in.
+    const Eigen::VectorXd margins =
+        margin >= 0 ? Eigen::VectorXd::Constant(W.cols(), margin)
+                    : spinmotor::default_pin_margins(rig.mesh.V, W, skin.bones, threshold);
+    const Eigen::VectorXi pins = spinmotor::pins_from_weights(rig.mesh.V, W, threshold, margins);
     if (pins.size() == 0)
       throw Error("rig pose: --cleanup pinned: no vertex has a weight ≥ " + std::to_string(threshold) +
-                  " farther than " + std::to_string(margin) +
-                  " from a blended vertex (lower --pin-threshold or --pin-margin)");
+                  " far enough from a blended vertex (lower --pin-threshold or --pin-margin)");
     pinned.emplace(spinmotor::PinnedCleanup::bind(rig.mesh, pins));
     std::cerr << "rig pose: cleanup pinned: " << pins.size() << " of " << rig.mesh.V.rows()
-              << " vertices pinned (margin " << margin << ")\n";
+              << " vertices pinned (largest margin " << margins.maxCoeff() << ")\n";
   }
   void operator()(Eigen::MatrixXd& V_frame) {
     if (!pinned) return;
@@ -291,7 +293,7 @@ const spinmotor::cli::RegisterCommand reg{
           ->capture_default_str();
       pose->add_option("--pin-margin", a->pin_margin,
                        "--cleanup pinned: rigid vertices closer than this to a blended one are left free "
-                       "(default: a quarter of the widest joint blend band)");
+                       "(default, per bone: a quarter of the widest blend band of its joints)");
       pose->callback([a] { run_pose(*a); });
       const std::string examples =
           "Examples:\n"

@@ -212,4 +212,36 @@ double default_pin_margin(const Eigen::MatrixXd& V, const Eigen::MatrixXd& W, st
   return 0.25 * w;
 }
 
+Eigen::VectorXi pins_from_weights(const Eigen::MatrixXd& V, const Eigen::MatrixXd& W, double threshold,
+                                  const Eigen::VectorXd& margins) {
+  check_inputs(V, W, threshold, "pins_from_weights");
+  if (margins.size() != W.cols())
+    throw Error("pins_from_weights: " + std::to_string(margins.size()) + " margins for " +
+                std::to_string(W.cols()) + " bones");
+  // One pass of the scalar search per distinct margin, each keeping the candidates of its bones.
+  std::vector<int> dominant(static_cast<size_t>(V.rows()));
+  for (Eigen::Index i = 0; i < V.rows(); ++i) dominant[i] = row_top(W, i).first;
+  std::vector<double> distinct(margins.data(), margins.data() + margins.size());
+  std::sort(distinct.begin(), distinct.end());
+  distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+  std::vector<int> out;
+  for (const double m : distinct) {
+    const Eigen::VectorXi p = pins_from_weights(V, W, threshold, m);
+    for (Eigen::Index k = 0; k < p.size(); ++k)
+      if (margins[dominant[p[k]]] == m) out.push_back(p[k]);
+  }
+  std::sort(out.begin(), out.end());
+  return Eigen::Map<const Eigen::VectorXi>(out.data(), static_cast<Eigen::Index>(out.size()));
+}
+
+Eigen::VectorXd default_pin_margins(const Eigen::MatrixXd& V, const Eigen::MatrixXd& W,
+                                    std::span<const Bone> bones, double threshold) {
+  Eigen::VectorXd m = Eigen::VectorXd::Zero(W.cols());
+  for (const JointBlend& j : joint_blend_bands(V, W, bones, threshold)) {
+    m[j.bone_a] = std::max(m[j.bone_a], 0.25 * j.width);
+    m[j.bone_b] = std::max(m[j.bone_b], 0.25 * j.width);
+  }
+  return m;
+}
+
 }  // namespace spinmotor

@@ -52,6 +52,17 @@ struct JointBlend {
 std::vector<JointBlend> joint_blend_bands(const Eigen::MatrixXd& V, const Eigen::MatrixXd& W,
                                           std::span<const Bone> bones, double threshold = 0.999);
 
+/// Per-bone margins: a candidate pin dominated by bone b must lie farther than margins[b] from every
+/// blended vertex. Inputs as above, margins (B values ≥ 0). Output: the pins, increasing.
+Eigen::VectorXi pins_from_weights(const Eigen::MatrixXd& V, const Eigen::MatrixXd& W, double threshold,
+                                  const Eigen::VectorXd& margins);
+
+/// Per bone: a quarter of the widest blend band among the joints the bone takes part in (0 for a
+/// bone in no joint) — each joint gets room in proportion to its own band, where default_pin_margin
+/// gives every joint the room of the widest one (on CesiumMan it pins 50 of the 313 rigid vertices).
+Eigen::VectorXd default_pin_margins(const Eigen::MatrixXd& V, const Eigen::MatrixXd& W,
+                                    std::span<const Bone> bones, double threshold = 0.999);
+
 /// A quarter of the largest joint blend width (0 when no vertex is blended).
 double default_pin_margin(const Eigen::MatrixXd& V, const Eigen::MatrixXd& W, std::span<const Bone> bones,
                           double threshold = 0.999);
