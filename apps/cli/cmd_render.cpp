@@ -1,6 +1,6 @@
 // `spinmotor render MESH [--rest REST] --color q|checker|normals|plain --out out.png [--size WxH]
 // [--camera AZ,EL[,DIST]] [--up x|y|z] [--flat] [--wireframe] [--q-range LO,HI]`: a picture of a mesh
-// without a window (viewer/render: EGL surfaceless, EGL pbuffer or OSMesa). Compiled only when the
+// without a window (render/: EGL surfaceless, EGL pbuffer or OSMesa). Compiled only when the
 // renderer library is built (SPINMOTOR_BUILD_VIEWER). The PNG is written atomically: on any error
 // (exit 2 bad input, 3 numerical) no file is left.
 #include <iostream>

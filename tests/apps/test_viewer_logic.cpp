@@ -1,4 +1,4 @@
-// The viewer's window-free logic (viewer/core): ray–triangle and mesh picking, gizmo maths (a
+// The viewer's window-free logic (apps/viewer/core): ray–triangle and mesh picking, gizmo maths (a
 // simulated mouse drag gives exactly the translation / rotation it should), undo/redo, the snap
 // worker's stale-result rule, the scene session (pose, undo, save), and — when the viewer is built
 // and xvfb-run exists — the viewer's headless screenshot under Xvfb checked pixel by pixel.

@@ -1,4 +1,4 @@
-// The viewer's tools, window-free (viewer/core): box and lasso selection with the CPU depth map
+// The viewer's tools, window-free (apps/viewer/core): box and lasso selection with the CPU depth map
 // (visible vertices only), curvature painting and its spin transformation, the deformer panel's
 // presets and schema-driven options, control anchors (FFD lattice, box cage, spline keys, IK target)
 // and the IK target dragged through the gizmo code path. The same steps through the viewer binary

@@ -1,4 +1,4 @@
-// Offscreen renderer (viewer/render): camera maths, a normal-coloured sphere whose silhouette is the
+// Offscreen renderer (render/): camera maths, a normal-coloured sphere whose silhouette is the
 // disk the camera predicts, Q colouring of a twisted capsule vs its conformal snap, the checkerboard,
 // and `spinmotor render` (PNG written atomically, exit 2 without output on bad input).
 #include <catch2/catch.hpp>

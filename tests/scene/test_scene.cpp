@@ -1,4 +1,4 @@
-// Scene files (cli/scene, docs/scene.md) and `spinmotor deform`: schema errors naming the JSON path, motors
+// Scene files (scene/, docs/scene.md) and `spinmotor deform`: schema errors naming the JSON path, motors
 // from their JSON forms, selections, the in-process runner and its outputs (mesh with UVs, metrics,
 // colours, numbered frames), and the CLI contract for bad scenes: exit code 2, a message naming the
 // JSON path or component, and no output file.

@@ -17,7 +17,7 @@
 // renders one frame (in a hidden GLFW window, e.g. under xvfb-run, or without any display through
 // the offscreen EGL/OSMesa context) and exits. Every step goes through the code the window uses:
 // --deformer the panel's preset, the selections the pixel regions of the camera framing the rest mesh
-// (visible vertices), --gizmo a press ray and a release ray through that camera (viewer/core/gizmo.hpp),
+// (visible vertices), --gizmo a press ray and a release ray through that camera (apps/viewer/core gizmo.hpp),
 // --paint a pick at a pixel and a brush dab, then the spin transformation of the painted ρ. --frames N
 // poses and uploads N frames (a rotation growing through the gizmo code path) and prints the frame timer.
 #include <CLI/CLI.hpp>
