@@ -69,5 +69,6 @@ void bind_mesh(py::module_& m);
 void bind_ga(py::module_& m);
 void bind_deform(py::module_& m);
 void bind_spin(py::module_& m);
+void bind_rig(py::module_& m);
 
 }  // namespace spinmotor::python

@@ -14,6 +14,7 @@ PYBIND11_MODULE(_spinmotor, m) {
   sp::bind_mesh(m);
   sp::bind_deform(m);
   sp::bind_spin(m);
+  sp::bind_rig(m);
   m.def(
       "option_values",
       [](const std::string& option) -> std::vector<std::string> {

@@ -196,3 +196,27 @@ def test_pinned_cleanup_errors(capsule):
     W[:, 1] = 1 - W[:, 0]
     pins = sm.pins_from_weights(V, W, 0.999, 0.0)
     assert len(pins) == len(V)  # every vertex is one bone's with weight 1
+
+
+def test_rig_pose_matches_the_gltf_formula_and_cleans_up(meshes_dir):
+    import os
+    rigs = os.path.join(os.path.dirname(meshes_dir), "rigs")
+    if not os.path.isdir(rigs):
+        pytest.skip("../shared/rigs not found")
+    rig = sm.read_gltf(os.path.join(rigs, "CesiumMan.gltf"))
+    V0, F = rig.V, rig.F
+    assert V0.shape == (2338, 3) and len(rig.joint_names) == 19
+    name, start, end = rig.animations[0]
+    t = 0.5 * (start + end)
+    V = rig.pose(t)
+    ref = rig.skin_positions(t)
+    assert np.abs(V - ref).max() / diag(ref) < 1e-5  # float32 inverse bind matrices: 7e-7 measured
+    assert np.abs(rig.pose(t, blend="dlb") - V).max() / diag(V) < 0.05
+    pins = sm.pins_from_weights(V0, rig.weights, 0.95, 0.0)
+    out = sm.PinnedCleanup(V0, F, pins).cleanup(V)
+    assert np.array_equal(out[pins], V[pins])
+    assert sm.metrics(V0, out, F)["q_mean"] < sm.metrics(V0, V, F)["q_mean"]
+    with pytest.raises(sm.Error, match="blend"):
+        rig.pose(t, blend="quadratic")
+    with pytest.raises(sm.Error, match="out of range"):
+        rig.pose(t, animation=3)
