@@ -25,7 +25,13 @@ std::string shape_of(const py::array& a) {
 
 std::string want_shape(Eigen::Index rows, Eigen::Index cols) {
   auto dim = [](Eigen::Index d, const char* sym) { return d < 0 ? std::string(sym) : std::to_string(d); };
-  return "(" + dim(rows, "n") + ", " + dim(cols, "k") + ")";
+  std::string out =
+      "(";  // appended, not "(" + std::string&&: GCC 12's -Wrestrict false positive (bug 105329)
+  out += dim(rows, "n");
+  out += ", ";
+  out += dim(cols, "k");
+  out += ")";
+  return out;
 }
 
 /// obj as a numpy array of a real numeric dtype ('f', 'i', 'u'; bool, complex, object, str refused).
