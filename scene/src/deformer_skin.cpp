@@ -11,6 +11,8 @@
 #include <map>
 
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/deform/delta_mush.hpp"
+#include "spinmotor/deform/direct_delta_mush.hpp"
 #include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/scene/deformer_registry.hpp"
 
@@ -124,6 +126,27 @@ std::unique_ptr<SceneDeformer> bind_skin(const Scene& s) {
     auto report = [n = bones.size()](const AnyDeformer&, std::span<const ga::Mot>, const Eigen::MatrixXd&) {
       return nlohmann::json{{"max_handle_error", nullptr}, {"skin", {{"bones", n}}}};
     };
+    // "mush": the skin cleaned up by Delta Mush or Direct Delta Mush (the baselines of the pose-keeping
+    // cleanup), with "mush_iterations" smoothing iterations (default: the deformer's Options).
+    const MushKind mush = deformer_option(s, "mush", MushKind::None);
+    if (mush == MushKind::None && b.contains("mush_iterations"))
+      throw s.error("/deformer/mush_iterations",
+                    "belongs to a skin with \"mush\": \"delta-mush\" or \"direct-delta-mush\"");
+    if (mush == MushKind::Delta) {
+      DeltaMushDeformer::Options mo;
+      mo.blend = o.blend;
+      mo.iterations = b.value("mush_iterations", mo.iterations);
+      return std::make_unique<SceneDeformer>(s, DeltaMushDeformer::bind(s.mesh, bones, W, mo), report,
+                                             nlohmann::json{}, motors);
+    }
+    if (mush == MushKind::Direct) {
+      if (b.contains("blend"))
+        throw s.error("/deformer/blend", "Direct Delta Mush blends the bone matrices itself: remove `blend`");
+      DirectDeltaMushDeformer::Options mo;
+      mo.iterations = b.value("mush_iterations", mo.iterations);
+      return std::make_unique<SceneDeformer>(s, DirectDeltaMushDeformer::bind(s.mesh, bones, W, mo), report,
+                                             nlohmann::json{}, motors);
+    }
     return std::make_unique<SceneDeformer>(s, SkinDeformer::bind(s.mesh, bones, W, o), report,
                                            nlohmann::json{}, motors);
   } catch (const Error& e) {

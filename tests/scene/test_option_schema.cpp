@@ -5,6 +5,7 @@
 
 #include "spinmotor/deform/arap.hpp"
 #include "spinmotor/deform/cage_deformer.hpp"
+#include "spinmotor/deform/delta_mush.hpp"
 #include "spinmotor/deform/ffd.hpp"
 #include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/deform/spline_basis.hpp"
@@ -51,4 +52,5 @@ TEST_CASE("the scene schema's enums equal the option tables", "[scene][schema][o
   CHECK(schema_enum(d + "deformer_arap/properties/energy") == table<ArapEnergy>());
   CHECK(schema_enum(d + "deformer_arap/properties/initial") == table<ArapInitial>());
   CHECK(schema_enum(d + "deformer_skin/properties/blend") == table<SkinBlend>());
+  CHECK(schema_enum(d + "deformer_skin/properties/mush") == table<MushKind>());
 }

@@ -254,3 +254,36 @@ TEST_CASE("ffd/cage/skin schema: docs/scene.md keys accepted, typos rejected", "
   skin["deformer"]["blend"] = "dqs";
   CHECK_THROWS_WITH(scene::parse_scene(skin, ".", "skin.json"), Catch::Contains("/deformer"));
 }
+
+TEST_CASE("skin scene with mush: Delta Mush and DDM of 0 iterations are LBS, more iterations move the elbow",
+          "[scene][skin][mush]") {
+  auto run = [](json doc) {
+    doc.erase("output");
+    return scene::run_scene(scene::parse_scene(doc, ".", "mush.json")).frames.at(0).V;
+  };
+  json lbs = skin_scene();
+  lbs["deformer"]["blend"] = "lbs";
+  const Eigen::MatrixXd V_lbs = run(lbs);
+  json dm = lbs;
+  dm["deformer"]["mush"] = "delta-mush";
+  dm["deformer"]["mush_iterations"] = 0;
+  CHECK((run(dm) - V_lbs).cwiseAbs().maxCoeff() == 0.0);  // zero sweeps: the deltas are zero
+  json ddm = lbs;
+  ddm["deformer"].erase("blend");
+  ddm["deformer"]["mush"] = "direct-delta-mush";
+  ddm["deformer"]["mush_iterations"] = 0;
+  CHECK((run(ddm) - V_lbs).cwiseAbs().maxCoeff() < 1e-12);  // Ψ = I: DDM reduces to LBS
+  dm["deformer"]["mush_iterations"] = 10;
+  const double moved = (run(dm) - V_lbs).cwiseAbs().maxCoeff();
+  INFO("Delta Mush moves the LBS elbow by up to " << moved);
+  CHECK(moved > 1e-4);
+  for (const char* bad : {R"({"type": "skin", "mush": "blur"})", R"({"type": "skin", "mush_iterations": 3})",
+                          R"({"type": "skin", "mush": "direct-delta-mush", "blend": "lbs"})"}) {
+    INFO(bad);
+    json doc = skin_scene();
+    doc["deformer"] = json::parse(bad);
+    CHECK_THROWS_WITH(scene::parse_scene(doc, ".", "bad.json").deformer_type == "skin" &&
+                          !scene::run_scene(scene::parse_scene(doc, ".", "bad.json")).frames.empty(),
+                      Catch::Contains("/deformer"));
+  }
+}

@@ -28,10 +28,19 @@
 #include <span>
 #include <vector>
 
+#include "spinmotor/core/option_names.hpp"
 #include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 
 namespace spinmotor {
+
+/// The smoothing a skin can be cleaned up with (the scene's skin `mush` key): none (plain skinning),
+/// Delta Mush (this header) or Direct Delta Mush (direct_delta_mush.hpp).
+enum class MushKind { None, Delta, Direct };
+inline constexpr OptionNames<MushKind, 3> kMushKindNames{
+    "mush",
+    {{{MushKind::None, "none"}, {MushKind::Delta, "delta-mush"}, {MushKind::Direct, "direct-delta-mush"}}}};
+constexpr const auto& option_names(MushKind) { return kMushKindNames; }
 
 class DeltaMushDeformer {
  public:
