@@ -202,16 +202,17 @@ def tag_key_update(obj):
     obj.update_tag()
 
 
-def corrective_key(context, obj, tmp, basis, target, tol, max_steps=8):
+def corrective_key(context, obj, tmp, basis, target, goal, accept, max_steps=8):
     """Coordinates K (n, 3) for a relative shape key such that the object's evaluated mesh with that key at
     value 1 (on top of the other keys) is `target` (n, 3), through the modifier stack.
 
     The stack's per-vertex Jacobian J (3×3, from finite differences of the whole stack with every vertex
     displaced along x, y, z) gives Newton steps d += J⁻¹ (target − f(basis + d)); an armature (linear blend
     or dual quaternion skinning) is affine per vertex, so the first step is exact up to float32; other
-    stacks take a few steps. `tmp` is a scratch shape key (value 1) used for the evaluations. Returns
-    (K, max residual). AddonError if J is singular (e.g. a bone scaled to 0) or the steps do not reach
-    `tol`."""
+    stacks take a few steps. Steps stop at a max residual <= `goal` (float32 roundoff of Blender's
+    evaluation bounds what is reachable). `tmp` is a scratch shape key (value 1) used for the evaluations.
+    Returns (K, max residual). AddonError if J is singular (e.g. a bone scaled to 0) or the residual stays
+    above `accept`."""
     n = len(basis)
 
     def f(offset):
@@ -220,7 +221,7 @@ def corrective_key(context, obj, tmp, basis, target, tol, max_steps=8):
         return evaluated_positions(context, obj)
 
     f0 = f(np.zeros((n, 3)))
-    h = max(1e-3 * diagonal(basis), 1e-6)
+    h = max(1e-2 * diagonal(basis), 1e-6)
     J = np.empty((n, 3, 3))
     for k in range(3):
         e = np.zeros((n, 3))
@@ -234,15 +235,19 @@ def corrective_key(context, obj, tmp, basis, target, tol, max_steps=8):
                          "vertices in all; a bone or hook scaled to 0?): no shape key before it can reach the "
                          "cleaned positions")
     d = np.linalg.solve(J, (target - f0)[:, :, None])[:, :, 0]
-    err = np.inf
+    best, best_err = d, np.inf
     for _ in range(max_steps):
         r = target - f(d)
         err = float(np.abs(r).max())
-        if err <= tol:
+        if err < best_err:
+            best, best_err = d, err
+        if err <= goal:
             break
         d = d + np.linalg.solve(J, r[:, :, None])[:, :, 0]
-    if not err <= tol:
+    d, err = best, best_err
+    if not err <= accept:
         raise AddonError(f"{obj.name}: the corrective shape key does not reproduce the cleanup through the "
-                         f"modifier stack (residual {err:.3g} > {tol:.3g} after {max_steps} Newton steps); "
+                         f"modifier stack (residual {err:.3g} > {accept:.3g} after {max_steps} Newton steps); "
                          "write a new object instead (Output: New object)")
+    set_key_co(tmp, basis + d)
     return basis + d, err

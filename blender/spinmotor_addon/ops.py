@@ -238,7 +238,7 @@ class SPINMOTOR_OT_bake_cleanup(MeshOperator, bpy.types.Operator):
         except sm.Error as e:
             raise AddonError(f"{obj.name} ({len(pins)} pins from {source}): "
                              + md.polygon_note(str(e), tri_poly)) from None
-        tol = 1e-5 * md.diagonal(V0)
+        dg = md.diagonal(V0)
         frame0, subframe0 = scene.frame_current, scene.frame_subframe
         frames = {}
         written = []
@@ -254,7 +254,7 @@ class SPINMOTOR_OT_bake_cleanup(MeshOperator, bpy.types.Operator):
                            "keep": r["keep"], "pin_error": r["pin_error"],
                            "metrics_edit": sm.metrics(V0, E, F), "metrics": sm.metrics(V0, V, F)}
                     if self.output == 'SHAPE_KEY':
-                        res["key"], res["key_residual"] = md.corrective_key(context, obj, ks.tmp, V0, V, tol)
+                        res["key"], res["key_residual"] = md.corrective_key(context, obj, ks.tmp, V0, V, 1e-6 * dg, 1e-4 * dg)
                     frames[f] = res
                 # Everything computed: write (still inside, so that a failure here rolls back too).
                 if self.output == 'SHAPE_KEY':
