@@ -153,6 +153,12 @@ def q_colormap(q, q_max):
     return np.where(lo[:, None], c[0] + s * (c[1] - c[0]), c[1] + s * (c[2] - c[1]))
 
 
+def srgb_to_linear(c):
+    """Display (sRGB) colour values to the scene-linear values float colour attributes hold."""
+    c = np.asarray(c, dtype=np.float64)
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
 def volume(V, F):
     return float(np.einsum("ij,ij->i", V[F[:, 0]], np.cross(V[F[:, 1]], V[F[:, 2]])).sum() / 6.0)
 

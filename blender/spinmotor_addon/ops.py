@@ -439,7 +439,7 @@ class SPINMOTOR_OT_q_colors(MeshOperator, bpy.types.Operator):
         offsets = np.arange(len(me.loops)) - np.repeat(np.cumsum(total) - total, total)
         corner_poly[np.repeat(start, total) + offsets] = np.repeat(np.arange(npoly), total)
         rgba = np.ones((len(me.loops), 4), np.float32)
-        rgba[:, :3] = md.q_colormap(qp, self.q_max)[corner_poly]
+        rgba[:, :3] = md.srgb_to_linear(md.q_colormap(qp, self.q_max))[corner_poly]  # attribute: linear
         attr = me.color_attributes.get(Q_COLOR)
         if attr is not None and (attr.domain != 'CORNER' or attr.data_type != 'FLOAT_COLOR'):
             me.color_attributes.remove(attr)

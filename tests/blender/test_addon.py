@@ -477,7 +477,8 @@ def test_q_colors(sm, addon, ob, V0, F, V_clean):
     # Triangles in the rigid parts are blue, the worst is the deep red.
     qv = np.empty(len(ob.data.polygons), np.float32)
     ob.data.attributes["spinmotor_Q_value"].data.foreach_get("value", qv)
-    blue = np.array([49, 54, 149]) / 255
+    blue = np.array([49, 54, 149]) / 255  # the colour map's Q = 1, sRGB; the attribute holds linear values
+    blue = np.where(blue <= 0.04045, blue / 12.92, ((blue + 0.055) / 1.055) ** 2.4)
     p_rigid = int(np.argmin(qv))
     assert abs(qv[p_rigid] - 1) < 1e-5
     assert np.abs(cols[ob.data.polygons[p_rigid].loop_start, :3] - blue).max() < 1e-3
