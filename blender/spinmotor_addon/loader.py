@@ -55,10 +55,16 @@ def load(pref_dir=""):
         "Preferences > Add-ons > spinmotor, or $SPINMOTOR_PYTHONPATH")
 
 
+_failed = {}  # pref_dir -> message: the panel redraws often, a failed search is not repeated for it
+
+
 def status(pref_dir=""):
     """(ok, text) for the panel: the module's file, or why it is missing."""
+    if pref_dir in _failed and "spinmotor" not in sys.modules:
+        return False, _failed[pref_dir]
     try:
         sm = load(pref_dir)
         return True, f"spinmotor {getattr(sm, '__version__', '?')} ({os.path.dirname(sm.__file__)})"
     except ModuleMissing as e:
+        _failed[pref_dir] = str(e)
         return False, str(e)

@@ -254,14 +254,17 @@ class SPINMOTOR_OT_bake_cleanup(MeshOperator, bpy.types.Operator):
                            "keep": r["keep"], "pin_error": r["pin_error"],
                            "metrics_edit": sm.metrics(V0, E, F), "metrics": sm.metrics(V0, V, F)}
                     if self.output == 'SHAPE_KEY':
-                        res["key"], res["key_residual"] = md.corrective_key(context, obj, ks.tmp, V0, V, 1e-6 * dg, 1e-4 * dg)
+                        # Newton steps to float32 roundoff; an error above 1e-4 of the diagonal.
+                        res["key"], res["key_residual"] = md.corrective_key(context, obj, ks.tmp, V0, V,
+                                                                            1e-6 * dg, 1e-4 * dg)
                     frames[f] = res
                 # Everything computed: write (still inside, so that a failure here rolls back too).
                 if self.output == 'SHAPE_KEY':
                     try:
                         for f, res in frames.items():
                             name = f"{CLEANUP_PREFIX}{f:04d}"
-                            existed = key_by_name(obj, name) is not None
+                            old = key_by_name(obj, name)
+                            existed = None if old is None else (md._co(old.data, len(V0)), old.value)
                             kb = write_key(obj, name, res["key"])
                             written.append((kb.name, existed))
                             ks.written.add(kb.name)
@@ -271,10 +274,13 @@ class SPINMOTOR_OT_bake_cleanup(MeshOperator, bpy.types.Operator):
                                     kb.keyframe_insert("value", frame=fr)
                             kb.value = 1.0
                     except Exception:
-                        for name, existed in written:
+                        for name, existed in written:  # new keys go, overwritten ones get their data back
                             kb = key_by_name(obj, name)
-                            if kb is not None and not existed:
+                            if kb is not None and existed is None:
                                 obj.shape_key_remove(kb)
+                            elif kb is not None:
+                                md.set_key_co(kb, existed[0])
+                                kb.value = existed[1]
                         raise
                     if written:
                         ks.active_name = written[-1][0]

@@ -254,7 +254,8 @@ def test_bake_cleanup(sm, addon):
     # Blender's armature is the C++ test's linear blend skinning (float32 data): the same edit.
     ref = arm_lbs(V0, W32, 90)
     lbs_err = np.abs(E - ref).max() / diag(ref)
-    print(f"  arm: {n} vertices, {len(F)} triangles; Blender armature vs closed-form LBS: {lbs_err:.2e} of the diagonal")
+    print(f"  arm: {n} vertices, {len(F)} triangles; Blender armature vs closed-form LBS: {lbs_err:.2e} of the "
+          "diagonal")
     assert lbs_err < 1e-6, lbs_err
 
     before = snapshot(ob)
@@ -317,6 +318,13 @@ def test_bake_cleanup(sm, addon):
     assert [kb.name for kb in key.key_blocks] == names
     assert np.array_equal(addon.ops.LAST["bake_cleanup"]["frames"][1]["V_edit"], E)
     assert np.abs(addon.ops.LAST["bake_cleanup"]["frames"][1]["V"] - V).max() <= 1e-12 * d
+
+    # The pins as a vertex group, then used as the pin group: the same cleanup.
+    assert bpy.ops.spinmotor.pins_to_group(threshold=0.999, margin=0.5) == {'FINISHED'}
+    assert np.array_equal(addon.meshdata.group_members(ob, "spinmotor_pins"), np.sort(pins))
+    bpy.ops.spinmotor.bake_cleanup(pin_group="spinmotor_pins")
+    assert np.abs(addon.ops.LAST["bake_cleanup"]["frames"][1]["V"] - V).max() <= 1e-12 * d
+    ob.vertex_groups.remove(ob.vertex_groups["spinmotor_pins"])
 
     # Errors: each reported, nothing written.
     op = bpy.ops.spinmotor.bake_cleanup
@@ -531,20 +539,95 @@ def test_handles(sm, addon):
     expect_error(bpy.ops.spinmotor.pose_handles, "handle 'handled.tip'", ob)
 
 
-def main():
-    t0 = time.time()
-    sys.path.insert(0, os.path.join(REPO, "blender"))
-    bpy.ops.wm.read_factory_settings(use_empty=True)
+class FakeLayout:
+    """Stands in for a UILayout in background mode (no window to draw): checks that every property and operator
+    property the panel names exists."""
+
+    def __init__(self):
+        self.calls = []
+
+    def box(self):
+        return self
+
+    def row(self, align=False):
+        return self
+
+    def label(self, text="", icon='NONE'):
+        self.calls.append(("label", text))
+
+    def prop(self, data, name, **kw):
+        assert name in data.bl_rna.properties, f"no property {name} on {data}"
+        self.calls.append(("prop", name))
+
+    def prop_search(self, data, name, search_data, search_name, **kw):
+        assert name in data.bl_rna.properties and search_name in search_data.bl_rna.properties
+        self.calls.append(("prop_search", name))
+
+    def operator(self, idname, **kw):
+        group, name = idname.split(".")
+        rna = getattr(getattr(bpy.ops, group), name).get_rna_type()
+        self.calls.append(("operator", idname))
+
+        class Props:
+            def __setattr__(self, key, value):
+                assert key in rna.properties, f"{idname} has no property {key}"
+                prop = rna.properties[key]
+                if prop.type == 'ENUM':
+                    assert value in prop.enum_items.keys(), (idname, key, value)
+        return Props()
+
+
+def test_ui(addon):
+    """The panel and the preferences draw without error, with only existing properties and operators."""
+    layout = FakeLayout()
+    panel = addon.ui.SPINMOTOR_PT_panel
+    panel.draw(type("P", (), {"layout": layout})(), bpy.context)
+    ops = [c[1] for c in layout.calls if c[0] == "operator"]
+    assert ops == ["spinmotor.bake_cleanup", "spinmotor.pins_to_group", "spinmotor.snap", "spinmotor.q_colors",
+                   "spinmotor.add_handle", "spinmotor.pose_handles"], ops
+    layout = FakeLayout()
+    prefs = bpy.context.preferences.addons["spinmotor_addon"].preferences
+    addon.ui.SpinmotorPreferences.draw(type("P", (), {"layout": layout, "module_dir": prefs.module_dir,
+                                                      "bl_rna": prefs.bl_rna})(),
+                                       bpy.context)
+    assert any(c[0] == "label" and c[1].startswith("spinmotor 0.1") for c in layout.calls), layout.calls
+
+
+def enable_addon():
+    """From the zip, as an artist installs it, when $BLENDER_USER_SCRIPTS is a scratch folder (scripts/ci-blender
+    sets one: the install writes there), else from blender/ on sys.path."""
+    user = os.environ.get("BLENDER_USER_SCRIPTS", "")
+    if os.environ.get("SPINMOTOR_TEST_ZIP_INSTALL") and user:
+        import zipfile
+        zpath = os.path.join(user, "spinmotor_addon.zip")
+        src = os.path.join(REPO, "blender", "spinmotor_addon")
+        with zipfile.ZipFile(zpath, "w") as z:
+            for f in sorted(os.listdir(src)):
+                if f.endswith(".py"):
+                    z.write(os.path.join(src, f), f"spinmotor_addon/{f}")
+        assert bpy.ops.preferences.addon_install(filepath=zpath) == {'FINISHED'}
+        print("add-on installed from", zpath)
+    else:
+        sys.path.insert(0, os.path.join(REPO, "blender"))
     mod = addon_utils.enable("spinmotor_addon", default_set=True, handle_error=None)
     assert mod is not None, "the add-on did not load"
+    return mod
+
+
+def main():
+    t0 = time.time()
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    enable_addon()
     import spinmotor_addon as addon
-    print("add-on registered:", addon.bl_info["name"], addon.bl_info["version"])
+    print("add-on registered:", addon.bl_info["name"], addon.bl_info["version"], "from", addon.__file__)
     print("test_module_missing")
     test_module_missing(addon)
     d = module_dir()
     bpy.context.preferences.addons["spinmotor_addon"].preferences.module_dir = d
     sm = addon.ops.spinmotor_module(bpy.context)
     print("spinmotor module:", sm.__file__)
+    print("test_ui")
+    test_ui(addon)
     print("test_bake_cleanup")
     ob, rig, V0, F, E, V = test_bake_cleanup(sm, addon)
     print("test_frame_range")
