@@ -261,6 +261,8 @@ def test_bake_cleanup(sm, addon):
     before = snapshot(ob)
     res = bpy.ops.spinmotor.bake_cleanup(threshold=0.999, margin=0.5, frame_start=1, frame_end=1)
     assert res == {'FINISHED'}, res
+    after = snapshot(ob)  # the mesh, its groups and the frame as they were; only the key is new
+    assert all(np.array_equal(before[k], after[k]) for k in ("co", "groups", "frame", "objects", "attributes"))
     L = addon.ops.LAST["bake_cleanup"]
     r = L["frames"][1]
     V = r["V"]
