@@ -18,11 +18,10 @@
 #include "command.hpp"
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/core/option_names.hpp"
-#include "spinmotor/deform/rig_pins.hpp"
 #include "spinmotor/deform/rig_skin.hpp"
 #include "spinmotor/mesh/gltf.hpp"
 #include "spinmotor/mesh/io.hpp"
-#include "spinmotor/spin/pinned_cleanup.hpp"
+#include "spinmotor/scene/rig_cleanup.hpp"
 
 namespace {
 
@@ -39,7 +38,7 @@ struct RigArgs {
   std::string blend = "lbs";
   std::string out;
   std::string cleanup = "none";
-  double pin_threshold = 0.999, pin_margin = -1;  // --cleanup pinned; margin < 0: the default
+  spinmotor::RigCleanupOptions rig_cleanup;  // --cleanup pinned (defaults: scene/rig_cleanup.hpp)
   std::string space = "mesh";
 };
 
@@ -125,33 +124,30 @@ void run_info(const RigArgs& a) {
 }
 
 // ---- post-skinning cleanup ------------------------------------------------------------------------
-// `--cleanup pinned`: the pose-keeping cleanup (spin/pinned_cleanup.hpp) of every posed frame, bound
-// once: the vertices of one joint (weight ≥ --pin-threshold) farther than --pin-margin (default a
-// quarter of the widest joint blend band, rig_pins.hpp) from any blended vertex stay where the skin put
-// them; the rest is made as conformal as possible at the rest volume (closed surfaces) or area.
+// `--cleanup pinned`: the pose-keeping cleanup of every posed frame, bound once (scene/rig_cleanup.hpp):
+// the vertices of one joint (weight ≥ --pin-threshold) farther than --pin-margin from any blended vertex
+// stay where the skin put them, the rest is held near the pose by the weights' attraction (--pose-weight)
+// and made as conformal as possible at the rest volume (closed surfaces) or area.
 struct Cleanup {
-  std::optional<spinmotor::PinnedCleanup> pinned;
+  std::optional<spinmotor::RigCleanup> rig_cleanup;
   Eigen::MatrixXd V;
 
-  Cleanup(const std::string& mode, const spinmotor::GltfRig& rig, double threshold, double margin) {
+  Cleanup(const std::string& mode, const spinmotor::GltfRig& rig,
+          const spinmotor::RigCleanupOptions& options) {
     if (mode == "none") return;
     const spinmotor::RigSkin skin = spinmotor::rig_skin(rig);
-    const Eigen::MatrixXd W(skin.weights);
-    // margin < 0: per bone, a quarter of the widest blend band of the joints it takes part in.
-    const Eigen::VectorXd margins =
-        margin >= 0 ? Eigen::VectorXd::Constant(W.cols(), margin)
-                    : spinmotor::default_pin_margins(rig.mesh.V, W, skin.bones, threshold);
-    const Eigen::VectorXi pins = spinmotor::pins_from_weights(rig.mesh.V, W, threshold, margins);
-    if (pins.size() == 0)
-      throw Error("rig pose: --cleanup pinned: no vertex has a weight ≥ " + std::to_string(threshold) +
-                  " far enough from a blended vertex (lower --pin-threshold or --pin-margin)");
-    pinned.emplace(spinmotor::PinnedCleanup::bind(rig.mesh, pins));
-    std::cerr << "rig pose: cleanup pinned: " << pins.size() << " of " << rig.mesh.V.rows()
-              << " vertices pinned (largest margin " << margins.maxCoeff() << ")\n";
+    try {
+      rig_cleanup.emplace(spinmotor::RigCleanup::bind(rig.mesh, skin.weights, skin.bones, options));
+    } catch (const Error& e) {
+      throw Error(std::string("rig pose: --cleanup pinned: ") + e.what());
+    }
+    std::cerr << "rig pose: cleanup pinned: " << rig_cleanup->pins.size() << " of " << rig.mesh.V.rows()
+              << " vertices pinned (largest margin " << rig_cleanup->margins.maxCoeff() << "), pose weight "
+              << options.pose_weight << "\n";
   }
   void operator()(Eigen::MatrixXd& V_frame) {
-    if (!pinned) return;
-    (void)pinned->cleanup(V_frame, V);
+    if (!rig_cleanup) return;
+    (void)(*rig_cleanup)(V_frame, V);
     V_frame = V;
   }
 };
@@ -180,7 +176,7 @@ void run_pose(const RigArgs& a) {
   std::vector<double> times(n);
   for (int f = 0; f < n; ++f) times[f] = by_time ? a.time : spinmotor::gltf_frame_time(anim, f, n);
   spinmotor::SkinDeformer d = spinmotor::bind_rig(rig, blend);
-  Cleanup cleanup_frame(a.cleanup, rig, a.pin_threshold, a.pin_margin);
+  Cleanup cleanup_frame(a.cleanup, rig, a.rig_cleanup);
   // --space scene: the mesh node's global matrix places the result as in the file's scene (for the
   // Khronos samples: their Z-up -> Y-up root). Mesh files get W_mesh(t) applied to the positions, a
   // glTF the rest W_mesh as its node matrix.
@@ -287,13 +283,18 @@ const spinmotor::cli::RegisterCommand reg{
               "Post-skinning cleanup of each frame: none, or pinned (the pose-keeping conformal cleanup "
               "with the bones' rigid parts pinned)")
           ->check(CLI::IsMember({"none", "pinned"}));
-      pose->add_option("--pin-threshold", a->pin_threshold,
+      pose->add_option("--pin-threshold", a->rig_cleanup.pin_threshold,
                        "--cleanup pinned: a vertex is rigid when one joint's weight is at least this")
           ->check(CLI::Range(0.5, 1.0))
           ->capture_default_str();
-      pose->add_option("--pin-margin", a->pin_margin,
+      pose->add_option("--pin-margin", a->rig_cleanup.pin_margin,
                        "--cleanup pinned: rigid vertices closer than this to a blended one are left free "
                        "(default, per bone: a quarter of the widest blend band of its joints)");
+      pose->add_option("--pose-weight", a->rig_cleanup.pose_weight,
+                       "--cleanup pinned: γ ≥ 0 of the attraction that holds the soft parts near the skinned "
+                       "pose (1 on rigid parts, 0 mid-joint; 0 = pins only)")
+          ->check(CLI::NonNegativeNumber)
+          ->capture_default_str();
       pose->callback([a] { run_pose(*a); });
       const std::string examples =
           "Examples:\n"
