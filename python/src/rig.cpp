@@ -7,6 +7,7 @@
 #include "spinmotor/core/option_names.hpp"
 #include "spinmotor/deform/rig_skin.hpp"
 #include "spinmotor/mesh/gltf.hpp"
+#include "spinmotor/scene/rig_cleanup.hpp"
 
 namespace spinmotor::python {
 
@@ -95,6 +96,35 @@ Errors: spinmotor.Error for an animation out of range, an unknown blend, a non-r
           py::arg("t"), py::arg("animation") = 0, R"doc(
 skin_positions(t, animation=0) -> V (n, 3): the glTF skinning formula with plain 4×4 matrices and every
 influence (the reference the blends are compared with).
+)doc")
+      .def(
+          "bind_cleanup",
+          [](PyRig& r, double threshold, double margin, double pose_weight, const std::string& keep,
+             int max_iterations) {
+            RigCleanupOptions o;
+            o.pin_threshold = threshold;
+            o.pin_margin = margin;
+            o.pose_weight = pose_weight;
+            o.cleanup.keep = parse_option<CleanupKeep>(keep, "keep: ");
+            o.cleanup.max_iterations = max_iterations;
+            PyCleanup c;
+            py::gil_scoped_release release;
+            const RigSkin skin = rig_skin(*r.rig);
+            RigCleanup rc = RigCleanup::bind(r.rig->mesh, skin.weights, skin.bones, o);
+            c.cleanup = std::make_unique<PinnedCleanup>(std::move(rc.cleanup));
+            return c;
+          },
+          py::arg("threshold") = RigCleanupOptions{}.pin_threshold,
+          py::arg("margin") = RigCleanupOptions{}.pin_margin,
+          py::arg("pose_weight") = RigCleanupOptions{}.pose_weight,
+          py::arg("keep") = std::string(option_name(PinnedCleanupOptions{}.keep)),
+          py::arg("max_iterations") = PinnedCleanupOptions{}.max_iterations, R"doc(
+bind_cleanup(threshold=0.999, margin=-1, pose_weight=10, keep="auto", max_iterations=100) -> PinnedCleanup:
+the pose-keeping cleanup of this rig with the rig defaults (scene/rig_cleanup.hpp, the same as `spinmotor
+rig pose --cleanup pinned`): pins = vertices of one joint (weight >= threshold) farther than `margin`
+(< 0: per bone a quarter of its widest blend band) from every blended vertex; the soft parts held near the
+pose by the weights' attraction of strength pose_weight. Use .cleanup(rig.pose(t)) per frame.
+Errors: spinmotor.Error when no vertex qualifies as a pin, or for bad parameters.
 )doc");
   m.def(
       "read_gltf",

@@ -65,6 +65,7 @@ RunResult run_scene(const Scene& scene, const RunProgress& progress) {
       PinnedCleanupOptions o;
       o.keep = scene.snap.keep;
       o.max_iterations = scene.snap.iterations;
+      o.pose_weight = scene.snap.pose_weight;
       cleaner.emplace(PinnedCleanup::bind(scene.mesh, pins, o));
     } catch (const Error& e) {
       throw Error(scene.name() + ": /snap: " + e.what(), e.kind());
@@ -121,6 +122,7 @@ RunResult run_scene(const Scene& scene, const RunProgress& progress) {
       j["snap"] = {{"mode", "pinned"},
                    {"pins", cleaner->pins().size()},
                    {"keep", option_name(pr.kept)},
+                   {"pose_weight", scene.snap.pose_weight},
                    {"q_mean", detail::finite_or_null(ms.q_mean)},
                    {"q_max", detail::finite_or_null(ms.q_max)},
                    {"area_distortion", detail::finite_or_null(ms.area_distortion)},

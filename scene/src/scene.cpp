@@ -333,13 +333,15 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
     s.snap.steps = value_or(*it, "steps", 4);
     s.snap.area_constraint = value_or(*it, "area_constraint", 0.0);
     if (!(s.snap.mode == SnapMode::Free) && (it->contains("tradeoff") || it->contains("smooth_rho")))
-      throw s.error("/snap",
-                    "`tradeoff` and `smooth_rho` belong to mode \"free\"; mode \"shape\" takes `steps` and "
-                    "`area_constraint`, mode \"pinned\" takes `pins`, `keep` and `iterations`");
+      throw s.error(
+          "/snap",
+          "`tradeoff` and `smooth_rho` belong to mode \"free\"; mode \"shape\" takes `steps` and "
+          "`area_constraint`, mode \"pinned\" takes `pins`, `keep`, `iterations` and `pose_weight`");
     if (!shape && (it->contains("steps") || it->contains("area_constraint")))
       throw s.error("/snap", "`steps` and `area_constraint` belong to mode \"shape\"");
-    if (!pinned && (pins || it->contains("keep") || it->contains("iterations")))
-      throw s.error("/snap", "`pins`, `keep` and `iterations` belong to mode \"pinned\"");
+    if (!pinned &&
+        (pins || it->contains("keep") || it->contains("iterations") || it->contains("pose_weight")))
+      throw s.error("/snap", "`pins`, `keep`, `iterations` and `pose_weight` belong to mode \"pinned\"");
     if (pinned) {
       // Pins: "handles" (every handle's vertices) or a list of handle names.
       const nlohmann::json p = pins ? (*it)["pins"] : nlohmann::json("handles");
@@ -360,6 +362,7 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
         }
       }
       s.snap.iterations = value_or(*it, "iterations", s.snap.iterations);
+      s.snap.pose_weight = value_or(*it, "pose_weight", s.snap.pose_weight);
     }
   }
 

@@ -62,7 +62,8 @@ struct SnapSpec {
   SnapMode mode = SnapMode::Free;
   std::vector<int> pin_handles;          ///< pinned mode: indices of the handles whose vertices are pinned
   CleanupKeep keep = CleanupKeep::Auto;  ///< pinned mode: the measure kept
-  int iterations = PinnedCleanupOptions{}.max_iterations;  ///< pinned mode: at most this many steps
+  int iterations = PinnedCleanupOptions{}.max_iterations;   ///< pinned mode: at most this many steps
+  double pose_weight = PinnedCleanupOptions{}.pose_weight;  ///< pinned mode: γ of the pose attraction
   double tradeoff = 1.0;       ///< spin mode: similarities (0) … integrable spin transformation (1)
   int smooth_rho = 0;          ///< spin mode: Laplacian smoothing passes of the fitted ρ
   int steps = 4;               ///< shape mode: extrusion steps
