@@ -13,16 +13,14 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <optional>
 
 #include "command.hpp"
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/core/option_names.hpp"
-#include "spinmotor/deform/rig_pins.hpp"
 #include "spinmotor/deform/rig_skin.hpp"
 #include "spinmotor/mesh/gltf.hpp"
 #include "spinmotor/mesh/io.hpp"
-#include "spinmotor/spin/pinned_cleanup.hpp"
+#include "spinmotor/scene/rig_pose.hpp"
 
 namespace {
 
@@ -124,38 +122,6 @@ void run_info(const RigArgs& a) {
   for (const auto& w : rig.warnings) std::cerr << "spinmotor: warning: " << w << '\n';
 }
 
-// ---- post-skinning cleanup ------------------------------------------------------------------------
-// `--cleanup pinned`: the pose-keeping cleanup (spin/pinned_cleanup.hpp) of every posed frame, bound
-// once: the vertices of one joint (weight ≥ --pin-threshold) farther than --pin-margin (default a
-// quarter of the widest joint blend band, rig_pins.hpp) from any blended vertex stay where the skin put
-// them; the rest is made as conformal as possible at the rest volume (closed surfaces) or area.
-struct Cleanup {
-  std::optional<spinmotor::PinnedCleanup> pinned;
-  Eigen::MatrixXd V;
-
-  Cleanup(const std::string& mode, const spinmotor::GltfRig& rig, double threshold, double margin) {
-    if (mode == "none") return;
-    const spinmotor::RigSkin skin = spinmotor::rig_skin(rig);
-    const Eigen::MatrixXd W(skin.weights);
-    // margin < 0: per bone, a quarter of the widest blend band of the joints it takes part in.
-    const Eigen::VectorXd margins =
-        margin >= 0 ? Eigen::VectorXd::Constant(W.cols(), margin)
-                    : spinmotor::default_pin_margins(rig.mesh.V, W, skin.bones, threshold);
-    const Eigen::VectorXi pins = spinmotor::pins_from_weights(rig.mesh.V, W, threshold, margins);
-    if (pins.size() == 0)
-      throw Error("rig pose: --cleanup pinned: no vertex has a weight ≥ " + std::to_string(threshold) +
-                  " far enough from a blended vertex (lower --pin-threshold or --pin-margin)");
-    pinned.emplace(spinmotor::PinnedCleanup::bind(rig.mesh, pins));
-    std::cerr << "rig pose: cleanup pinned: " << pins.size() << " of " << rig.mesh.V.rows()
-              << " vertices pinned (largest margin " << margins.maxCoeff() << ")\n";
-  }
-  void operator()(Eigen::MatrixXd& V_frame) {
-    if (!pinned) return;
-    (void)pinned->cleanup(V_frame, V);
-    V_frame = V;
-  }
-};
-
 void run_pose(const RigArgs& a) {
   // Validate everything before reading or writing.
   const bool by_time = !std::isnan(a.time);
@@ -177,32 +143,24 @@ void run_pose(const RigArgs& a) {
   const spinmotor::GltfAnimation& anim = rig.animations[a.animation];
 
   const int n = by_time ? 1 : a.frames;
-  std::vector<double> times(n);
-  for (int f = 0; f < n; ++f) times[f] = by_time ? a.time : spinmotor::gltf_frame_time(anim, f, n);
-  spinmotor::SkinDeformer d = spinmotor::bind_rig(rig, blend);
-  Cleanup cleanup_frame(a.cleanup, rig, a.pin_threshold, a.pin_margin);
-  // --space scene: the mesh node's global matrix places the result as in the file's scene (for the
-  // Khronos samples: their Z-up -> Y-up root). Mesh files get W_mesh(t) applied to the positions, a
-  // glTF the rest W_mesh as its node matrix.
-  const bool scene_space = a.space == "scene";
-  auto pose_frame = [&](int f) {
-    Eigen::MatrixXd V;
-    d.pose(spinmotor::rig_pose_motors(rig, a.animation, times[f]), V);
-    cleanup_frame(V);
-    if (scene_space && !gltf_out) {
-      const Eigen::Matrix4d w = spinmotor::node_world_matrices(rig, a.animation, times[f])[rig.mesh_node];
-      V = ((V * w.topLeftCorner<3, 3>().transpose()).rowwise() + w.topRightCorner<3, 1>().transpose()).eval();
-    }
-    return V;
-  };
+  const std::vector<double> times =
+      by_time ? std::vector<double>{a.time} : spinmotor::scene::rig_frame_times(rig, a.animation, n);
+  spinmotor::scene::RigPoseOptions po;
+  po.animation = a.animation;
+  po.blend = blend;
+  po.cleanup = spinmotor::parse_option<spinmotor::scene::RigCleanup>(a.cleanup, "rig pose: --cleanup: ");
+  po.pin_threshold = a.pin_threshold;
+  po.pin_margin = a.pin_margin;
+  po.space = spinmotor::parse_option<spinmotor::scene::RigSpace>(a.space, "rig pose: --space: ");
+  spinmotor::scene::RigPoser poser(rig, po);  // scene/rig_pose.hpp: skin, cleanup, placement
+  if (poser.pins().size() > 0)
+    std::cerr << "rig pose: cleanup pinned: " << poser.pins().size() << " of " << rig.mesh.V.rows()
+              << " vertices pinned (largest margin " << poser.pin_margins().maxCoeff() << ")\n";
+  auto pose_frame = [&](int f) { return poser.pose(times[f]); };
 
   std::vector<fs::path> written;
   if (gltf_out) {
-    std::vector<Eigen::MatrixXd> frames(n);
-    for (int f = 0; f < n; ++f) frames[f] = pose_frame(f);
-    const Eigen::Matrix4d node = scene_space ? spinmotor::node_world_matrices(rig, -1, 0.0)[rig.mesh_node]
-                                             : Eigen::Matrix4d::Identity();
-    spinmotor::write_gltf_morph_animation(out, rig.mesh, frames, times, out.stem().string(), node);
+    spinmotor::scene::bake_rig_gltf(out, poser, times, out.stem().string());
     written.push_back(out);
   } else if (by_time) {
     spinmotor::Mesh m = rig.mesh;
@@ -281,12 +239,12 @@ const spinmotor::cli::RegisterCommand reg{
               "--space", a->space,
               "Output coordinates: mesh (the file's POSITION frame, default) or scene (the mesh node's "
               "global matrix applied, e.g. Y-up for the Khronos samples)")
-          ->check(CLI::IsMember({"mesh", "scene"}));
+          ->check(CLI::IsMember(spinmotor::option_values<spinmotor::scene::RigSpace>()));
       pose->add_option(
               "--cleanup", a->cleanup,
               "Post-skinning cleanup of each frame: none, or pinned (the pose-keeping conformal cleanup "
               "with the bones' rigid parts pinned)")
-          ->check(CLI::IsMember({"none", "pinned"}));
+          ->check(CLI::IsMember(spinmotor::option_values<spinmotor::scene::RigCleanup>()));
       pose->add_option("--pin-threshold", a->pin_threshold,
                        "--cleanup pinned: a vertex is rigid when one joint's weight is at least this")
           ->check(CLI::Range(0.5, 1.0))
