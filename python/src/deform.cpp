@@ -162,10 +162,14 @@ Attributes:
   vertices: number of mesh vertices
   type:     the C++ class name
 )doc")
-      .def_property_readonly("controls", [](const PyDeformer& p) { return controls_list(p.d); })
-      .def_property_readonly("vertices",
-                             [](const PyDeformer& p) { return static_cast<long long>(p.d.vertices()); })
-      .def_property_readonly("type", [](const PyDeformer& p) { return p.type; })
+      .def_property_readonly(
+          "controls", [](const PyDeformer& p) { return controls_list(p.d); },
+          "controls -> list of (name, anchor (3,)) pairs in pose order: what pose() takes one motor for.")
+      .def_property_readonly(
+          "vertices", [](const PyDeformer& p) { return static_cast<long long>(p.d.vertices()); },
+          "vertices -> int: the number of mesh vertices (rows of pose()'s output).")
+      .def_property_readonly(
+          "type", [](const PyDeformer& p) { return p.type; }, "type -> str: the C++ class name.")
       .def(
           "pose",
           [](PyDeformer& p, py::object motors) {
@@ -260,6 +264,8 @@ FfdDeformer(V, F=None, lattice=(4, 4, 4), basis="bezier", degree=3, mode="motor"
   basis: "bezier" | "bspline"; mode: "motor" | "position"; blend (motor mode): "log" | "dlb";
   box: ((xmin, ymin, zmin), (xmax, ymax, zmax)) or None for the bounding box grown by margin.
   Controls "ffd[a,b,c]" at the lattice points.
+Errors: spinmotor.Error for bad arrays, a lattice below the basis' order, an unknown name (listing the
+valid ones), an empty box.
 )doc")
         .def(py::init([](py::object V, py::object F, std::array<int, 3> lattice, const std::string& basis,
                          int degree, const std::string& mode, const std::string& blend, py::object box,
@@ -324,15 +330,17 @@ Errors: spinmotor.Error for a bad cage (open, misoriented) or a mesh vertex outs
       "  skeleton: list of bones, each a dict {name, parent=-1, head, tail, rest=Motor()} or a tuple\n"
       "            (name, parent, head, tail[, rest]); weights: (n, B) dense non-negative array, columns in\n"
       "            bone order, every row with a positive entry (<= 4 largest kept, renormalised).\n"
-      "  One control per bone (anchored at its head); pose() takes the posed world frames F_j.\n";
+      "  One control per bone (anchored at its head); pose() takes the posed world frames F_j.\n"
+      "Errors: spinmotor.Error for a bad skeleton (naming the bone), weights of the wrong shape, negative,\n"
+      "non-finite or with an all-zero row (naming the row), an unknown blend (listing the valid ones).\n";
   {
     using D = SkinDeformer;
     const D::Options def{};
     py::class_<PySkin, PyDeformer>(
         m, "SkinDeformer",
-        (std::string("Skinning with motors.\n\nSkinDeformer(V, F, skeleton, weights, "
-                     "blend=\"dlb\")\n") +
-         kSkeletonDoc + "  blend: \"lbs\" | \"dlb\" | \"log\" | \"pivot-log\".\n")
+        (std::string("Skinning with motors.\n\nSkinDeformer(V, F, skeleton, weights, blend=\"") +
+         std::string(option_name(def.blend)) +
+         "\")\n  blend: \"lbs\" | \"dlb\" | \"log\" | \"pivot-log\".\n" + kSkeletonDoc)
             .c_str())
         .def(py::init([](py::object V, py::object F, py::object skeleton, py::object weights,
                          const std::string& blend) {
@@ -410,6 +418,8 @@ and key motors blended along it.
 SplineDeformer(V, F, handles=[(from_name, idx), (to_name, idx)], basis="bspline", degree=3, keys=4,
                weights="mean-value", key_names=None)
   One control per key ("key0".. or key_names).
+Errors: spinmotor.Error for bad arrays, bad handles (naming them), keys below the basis' order, an
+unknown name (listing the valid ones); numerical Error if the harmonic solve fails.
 )doc")
         .def(py::init([](py::object V, py::object F, py::object handles, const std::string& basis, int degree,
                          int keys, const std::string& weights, py::object key_names) {
@@ -441,6 +451,8 @@ SplineIkDeformer(V, F, handles=[from, to], chain, target, tolerance=1e-4, iterat
                  degree=3, weights="mean-value", warm_start=False)
   chain: (k, 3) rest joint positions (k >= 2, root first); target: (3,) rest target.
   One control "ik.target" (its motor carries the rest target to the frame's target).
+Errors: spinmotor.Error as SplineDeformer, and for a chain of fewer than 2 joints or a non-finite
+target.
 )doc")
         .def(py::init([](py::object V, py::object F, py::object handles, py::object chain, py::object target,
                          double tolerance, int iterations, int controls, int degree,
