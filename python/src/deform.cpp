@@ -183,6 +183,18 @@ Attributes:
             return to_numpy(V);
           },
           py::arg("motors"), kPoseDoc)
+      .def(
+          "_time_pose",
+          [](PyDeformer& p, py::object motors, int repeats) {
+            // Private (bench/python_overhead.py): the C++ call alone, as a C++ caller makes it per
+            // frame (motors converted once, the output matrix reused).
+            const std::vector<ga::Mot> ms = to_motors(motors, "motors");
+            Eigen::MatrixXd V;
+            py::gil_scoped_release release;
+            std::lock_guard<std::mutex> guard(*p.lock);
+            return time_calls(repeats, [&] { p.d.pose(ms, V); });
+          },
+          py::arg("motors"), py::arg("repeats") = 5)
       .def("__repr__", [](const PyDeformer& p) {
         return "<spinmotor." + p.type + " " + std::to_string(p.d.vertices()) + " vertices, " +
                std::to_string(p.d.controls().size()) + " controls>";

@@ -354,6 +354,30 @@ Errors:  spinmotor.Error for a wrong size, a non-finite coordinate, an unknown m
 )doc");
   }
 
+  // ---- private timing hooks (bench/python_overhead.py): the C++ calls alone, outputs reused ---------
+  py::reinterpret_borrow<py::class_<PyCleanup>>(m.attr("PinnedCleanup"))
+      .def(
+          "_time_cleanup",
+          [](PyCleanup& c, py::object V_edit, int repeats) {
+            const Eigen::MatrixXd E = to_points(V_edit, "V_edit");
+            Eigen::MatrixXd V;
+            py::gil_scoped_release release;
+            std::lock_guard<std::mutex> guard(*c.lock);
+            return time_calls(repeats, [&] { (void)c.cleanup->cleanup(E, V); });
+          },
+          py::arg("V_edit"), py::arg("repeats") = 3);
+  py::reinterpret_borrow<py::class_<PySnap>>(m.attr("ConformalSnap"))
+      .def(
+          "_time_snap",
+          [](PySnap& p, py::object V_edit, int repeats) {
+            const Eigen::MatrixXd E = to_points(V_edit, "V_edit");
+            py::gil_scoped_release release;
+            std::lock_guard<std::mutex> guard(*p.lock);
+            p.snap->set_tradeoff(ConformalSnapOptions{}.tradeoff);
+            return time_calls(repeats, [&] { (void)p.snap->snap(E); });
+          },
+          py::arg("V_edit"), py::arg("repeats") = 3);
+
   // ---- SpinTransform -------------------------------------------------------------------------------
   {
     const SpinTransformOptions def{};
