@@ -3,7 +3,9 @@
 //   rig pose FILE (--time T | --frames N) [--animation I] [--blend lbs|dlb|log|pivot-log] --out PATH
 //       posed meshes: one file at PATH (--time), or PATH's stem + ".0000", ".0001", ... (--frames);
 //       a .gltf/.glb PATH holds all frames as morph targets driven by a STEP weights animation;
-//       [--space mesh|scene]: positions in the file's mesh space (default) or placed in its scene.
+//       [--space mesh|scene]: positions in the file's mesh space (default) or placed in its scene;
+//       [--cleanup none|pinned]: the pose-keeping cleanup of every frame.
+//   The posing, the cleanup and the glTF baker are scene/rig_pose.hpp's (shared with Python's Rig).
 // Bad input (unreadable rig, bad option, scaling joint for a motor blend) exits 2 before anything is
 // written; frame sequences are staged in a hidden folder and moved into place only when all are written.
 #include <unistd.h>
