@@ -144,7 +144,8 @@ pose(motors) -> V
 
 Inputs:  motors: list of unit spinmotor.Motor, one per control (in the order of .controls), relative
          to the rest pose (all identities reproduce the rest mesh).
-Output:  (n, 3) float64 deformed positions.
+Output:  (n, 3) float64 deformed positions: a column-major (Fortran-ordered) array that owns the
+         C++ result's memory (no copy; a new array per call).
 Errors:  spinmotor.Error for a wrong count ("expected k motors (one per control), got m") or a
          non-finite motor (naming the control); numerical Error when the deformer's solve fails.
 The GIL is released during the pose; one pose at a time per object.
@@ -180,7 +181,7 @@ Attributes:
               std::lock_guard<std::mutex> guard(*p.lock);
               p.d.pose(ms, V);
             }
-            return to_numpy(V);
+            return to_numpy_owned(std::move(V));  // no copy: the array takes the matrix
           },
           py::arg("motors"), kPoseDoc)
       .def(

@@ -150,10 +150,10 @@ Errors: spinmotor.Error naming the file and the element (accessor, node, primiti
               SkinDeformer d = bind_rig(rig, b);
               d.pose(rig_pose_motors(rig, a, t), V);
             }
-            return to_numpy(V);
+            return to_numpy_owned(std::move(V));
           },
           py::arg("t"), py::arg("animation") = 0, py::arg("blend") = "lbs", R"doc(
-pose(t, animation=0, blend="lbs") -> V (n, 3): the skinned surface at time t (seconds, clamped to the
+pose(t, animation=0, blend="lbs") -> V (n, 3, column-major, no copy): the skinned surface at time t (seconds, clamped to the
 animation's range) with blend lbs, dlb, log or pivot-log (SkinDeformer); animation -1 is the rest pose.
 Errors: spinmotor.Error for an animation out of range, an unknown blend, a non-rigid joint transform.
 )doc")
@@ -263,10 +263,10 @@ Properties: pins (the pinned vertices with cleanup="pinned", else empty), pin_ma
               std::lock_guard<std::mutex> guard(*p.lock);
               V = p.poser->pose(t);
             }
-            return to_numpy(V);
+            return to_numpy_owned(std::move(V));
           },
           py::arg("t"), R"doc(
-pose(t) -> V (n, 3): the skinned surface at time t (seconds, clamped to the animation's range),
+pose(t) -> V (n, 3, column-major, no copy): the skinned surface at time t (seconds, clamped to the animation's range),
 cleaned up if the poser was made with cleanup="pinned", in the poser's space. No bind per call.
 Errors: spinmotor.Error for a non-finite t or a non-rigid joint transform.
 )doc")
