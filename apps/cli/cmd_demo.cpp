@@ -319,7 +319,7 @@ void stage_rig(Demo& d) {
   // a quarter of the elbow's blend width from any blended vertex are pinned, the others attracted to
   // the skinned pose by their dominant weight (γ = 10).
   t0 = std::chrono::steady_clock::now();
-  RigCleanup cleanup = RigCleanup::bind(arm, W, bones);
+  scene::RigCleanup cleanup = scene::RigCleanup::bind(arm, W, bones);
   const Eigen::VectorXi& pins = cleanup.pins;
   const double clean_bind_ms = ms_since(t0);
   Mesh arm_cleaned = arm;
@@ -346,7 +346,7 @@ void stage_rig(Demo& d) {
       {"volume_ratio_lbs", kc.rest_measure != 0 ? kc.edit_measure / kc.rest_measure : 1.0},
       {"volume_ratio_cleaned", kc.measure_ratio()},
       {"pin_error", kc.pin_error},
-      {"pose_weight", RigCleanupOptions{}.pose_weight},
+      {"pose_weight", scene::RigCleanupOptions{}.pose_weight},
       {"rms_to_lbs_snapped", rms_to(ks.V, skinned.V)},
       {"rms_to_lbs_cleaned", rms_to(arm_cleaned.V, skinned.V)}};
   d.progress("skinned the arm, snapped it and cleaned it up with the rigid parts pinned");

@@ -3,7 +3,9 @@
 //   rig pose FILE (--time T | --frames N) [--animation I] [--blend lbs|dlb|log|pivot-log] --out PATH
 //       posed meshes: one file at PATH (--time), or PATH's stem + ".0000", ".0001", ... (--frames);
 //       a .gltf/.glb PATH holds all frames as morph targets driven by a STEP weights animation;
-//       [--space mesh|scene]: positions in the file's mesh space (default) or placed in its scene.
+//       [--space mesh|scene]: positions in the file's mesh space (default) or placed in its scene;
+//       [--cleanup none|pinned]: the pose-keeping cleanup of every frame.
+//   The posing, the cleanup and the glTF baker are scene/rig_pose.hpp's (shared with Python's Rig).
 // Bad input (unreadable rig, bad option, scaling joint for a motor blend) exits 2 before anything is
 // written; frame sequences are staged in a hidden folder and moved into place only when all are written.
 #include <unistd.h>
@@ -13,7 +15,6 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <optional>
 
 #include "command.hpp"
 #include "spinmotor/core/error.hpp"
@@ -21,7 +22,7 @@
 #include "spinmotor/deform/rig_skin.hpp"
 #include "spinmotor/mesh/gltf.hpp"
 #include "spinmotor/mesh/io.hpp"
-#include "spinmotor/scene/rig_cleanup.hpp"
+#include "spinmotor/scene/rig_pose.hpp"
 
 namespace {
 
@@ -38,7 +39,7 @@ struct RigArgs {
   std::string blend = "lbs";
   std::string out;
   std::string cleanup = "none";
-  spinmotor::RigCleanupOptions rig_cleanup;  // --cleanup pinned (defaults: scene/rig_cleanup.hpp)
+  spinmotor::scene::RigCleanupOptions rig_cleanup;  // --cleanup pinned (defaults: scene/rig_cleanup.hpp)
   std::string space = "mesh";
 };
 
@@ -123,35 +124,6 @@ void run_info(const RigArgs& a) {
   for (const auto& w : rig.warnings) std::cerr << "spinmotor: warning: " << w << '\n';
 }
 
-// ---- post-skinning cleanup ------------------------------------------------------------------------
-// `--cleanup pinned`: the pose-keeping cleanup of every posed frame, bound once (scene/rig_cleanup.hpp):
-// the vertices of one joint (weight ≥ --pin-threshold) farther than --pin-margin from any blended vertex
-// stay where the skin put them, the rest is held near the pose by the weights' attraction (--pose-weight)
-// and made as conformal as possible at the rest volume (closed surfaces) or area.
-struct Cleanup {
-  std::optional<spinmotor::RigCleanup> rig_cleanup;
-  Eigen::MatrixXd V;
-
-  Cleanup(const std::string& mode, const spinmotor::GltfRig& rig,
-          const spinmotor::RigCleanupOptions& options) {
-    if (mode == "none") return;
-    const spinmotor::RigSkin skin = spinmotor::rig_skin(rig);
-    try {
-      rig_cleanup.emplace(spinmotor::RigCleanup::bind(rig.mesh, skin.weights, skin.bones, options));
-    } catch (const Error& e) {
-      throw Error(std::string("rig pose: --cleanup pinned: ") + e.what());
-    }
-    std::cerr << "rig pose: cleanup pinned: " << rig_cleanup->pins.size() << " of " << rig.mesh.V.rows()
-              << " vertices pinned (largest margin " << rig_cleanup->margins.maxCoeff() << "), pose weight "
-              << options.pose_weight << "\n";
-  }
-  void operator()(Eigen::MatrixXd& V_frame) {
-    if (!rig_cleanup) return;
-    (void)(*rig_cleanup)(V_frame, V);
-    V_frame = V;
-  }
-};
-
 void run_pose(const RigArgs& a) {
   // Validate everything before reading or writing.
   const bool by_time = !std::isnan(a.time);
@@ -173,32 +145,24 @@ void run_pose(const RigArgs& a) {
   const spinmotor::GltfAnimation& anim = rig.animations[a.animation];
 
   const int n = by_time ? 1 : a.frames;
-  std::vector<double> times(n);
-  for (int f = 0; f < n; ++f) times[f] = by_time ? a.time : spinmotor::gltf_frame_time(anim, f, n);
-  spinmotor::SkinDeformer d = spinmotor::bind_rig(rig, blend);
-  Cleanup cleanup_frame(a.cleanup, rig, a.rig_cleanup);
-  // --space scene: the mesh node's global matrix places the result as in the file's scene (for the
-  // Khronos samples: their Z-up -> Y-up root). Mesh files get W_mesh(t) applied to the positions, a
-  // glTF the rest W_mesh as its node matrix.
-  const bool scene_space = a.space == "scene";
-  auto pose_frame = [&](int f) {
-    Eigen::MatrixXd V;
-    d.pose(spinmotor::rig_pose_motors(rig, a.animation, times[f]), V);
-    cleanup_frame(V);
-    if (scene_space && !gltf_out) {
-      const Eigen::Matrix4d w = spinmotor::node_world_matrices(rig, a.animation, times[f])[rig.mesh_node];
-      V = ((V * w.topLeftCorner<3, 3>().transpose()).rowwise() + w.topRightCorner<3, 1>().transpose()).eval();
-    }
-    return V;
-  };
+  const std::vector<double> times =
+      by_time ? std::vector<double>{a.time} : spinmotor::scene::rig_frame_times(rig, a.animation, n);
+  spinmotor::scene::RigPoseOptions po;
+  po.animation = a.animation;
+  po.blend = blend;
+  po.cleanup = spinmotor::parse_option<spinmotor::scene::RigCleanupMode>(a.cleanup, "rig pose: --cleanup: ");
+  po.cleanup_options = a.rig_cleanup;
+  po.space = spinmotor::parse_option<spinmotor::scene::RigSpace>(a.space, "rig pose: --space: ");
+  spinmotor::scene::RigPoser poser(rig, po);  // scene/rig_pose.hpp: skin, cleanup, placement
+  if (poser.pins().size() > 0)
+    std::cerr << "rig pose: cleanup pinned: " << poser.pins().size() << " of " << rig.mesh.V.rows()
+              << " vertices pinned (largest margin " << poser.pin_margins().maxCoeff() << "), pose weight "
+              << po.cleanup_options.pose_weight << "\n";
+  auto pose_frame = [&](int f) { return poser.pose(times[f]); };
 
   std::vector<fs::path> written;
   if (gltf_out) {
-    std::vector<Eigen::MatrixXd> frames(n);
-    for (int f = 0; f < n; ++f) frames[f] = pose_frame(f);
-    const Eigen::Matrix4d node = scene_space ? spinmotor::node_world_matrices(rig, -1, 0.0)[rig.mesh_node]
-                                             : Eigen::Matrix4d::Identity();
-    spinmotor::write_gltf_morph_animation(out, rig.mesh, frames, times, out.stem().string(), node);
+    spinmotor::scene::bake_rig_gltf(out, poser, times, out.stem().string());
     written.push_back(out);
   } else if (by_time) {
     spinmotor::Mesh m = rig.mesh;
@@ -277,12 +241,12 @@ const spinmotor::cli::RegisterCommand reg{
               "--space", a->space,
               "Output coordinates: mesh (the file's POSITION frame, default) or scene (the mesh node's "
               "global matrix applied, e.g. Y-up for the Khronos samples)")
-          ->check(CLI::IsMember({"mesh", "scene"}));
+          ->check(CLI::IsMember(spinmotor::option_values<spinmotor::scene::RigSpace>()));
       pose->add_option(
               "--cleanup", a->cleanup,
               "Post-skinning cleanup of each frame: none, or pinned (the pose-keeping conformal cleanup "
               "with the bones' rigid parts pinned)")
-          ->check(CLI::IsMember({"none", "pinned"}));
+          ->check(CLI::IsMember(spinmotor::option_values<spinmotor::scene::RigCleanupMode>()));
       pose->add_option("--pin-threshold", a->rig_cleanup.pin_threshold,
                        "--cleanup pinned: a vertex is rigid when one joint's weight is at least this")
           ->check(CLI::Range(0.5, 1.0))

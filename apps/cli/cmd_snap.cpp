@@ -57,10 +57,10 @@ const cli::RegisterCommand reg{
           ->capture_default_str();
       sub.add_option("--problem", a->problem,
                      "Eigenproblem: standard (eq. 7) or generalized (eq. 6, closed meshes)")
-          ->check(CLI::IsMember({"standard", "generalized"}))
+          ->check(CLI::IsMember({"standard", "generalized"}))  // unweighted: SpinTransform only
           ->capture_default_str();
       sub.add_option("--align", a->align, "Placement onto the edit: similarity (Umeyama), translation, none")
-          ->check(CLI::IsMember({"similarity", "translation", "none"}))
+          ->check(CLI::IsMember(option_values<SnapAlignment>()))
           ->capture_default_str();
       sub.add_option("--smooth-rho", a->smooth,
                      "Passes of face-neighbour averaging of rho before the solve (for creased edits, e.g. "
@@ -180,10 +180,8 @@ const cli::RegisterCommand reg{
         ConformalSnapOptions o;
         o.tradeoff = a->tradeoff;
         o.rho_smoothing = a->smooth;
-        o.problem = a->problem == "generalized" ? SpinEigenProblem::Generalized : SpinEigenProblem::Standard;
-        o.alignment = a->align == "translation" ? SnapAlignment::Translation
-                      : a->align == "none"      ? SnapAlignment::None
-                                                : SnapAlignment::Similarity;
+        o.problem = parse_option<SpinEigenProblem>(a->problem, "snap: --problem: ");
+        o.alignment = parse_option<SnapAlignment>(a->align, "snap: --align: ");
         ConformalSnap cs(rest, o);
         const ConformalSnapResult r = cs.snap(edited.V);
         const QuasiConformalSummary q0 = quasi_conformal_summary(rest.V, rest.F, edited.V);

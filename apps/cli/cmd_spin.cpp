@@ -20,18 +20,6 @@ namespace {
 
 using namespace spinmotor;
 
-const char* problem_name(SpinEigenProblem p) {
-  switch (p) {
-    case SpinEigenProblem::Standard:
-      return "standard";
-    case SpinEigenProblem::Generalized:
-      return "generalized";
-    case SpinEigenProblem::Unweighted:
-      return "unweighted";
-  }
-  return "?";
-}
-
 const cli::RegisterCommand reg{
     "spin", "Spin transformation (Crane et al. 2011) of a mesh for a painted curvature change rho",
     [](CLI::App& sub) {
@@ -80,16 +68,16 @@ const cli::RegisterCommand reg{
           "with max |v| = 1");
       sub.add_option("--problem", a->problem,
                      "Eigenproblem: standard (eq. 7), generalized (eq. 6), unweighted")
-          ->check(CLI::IsMember({"standard", "generalized", "unweighted"}))
+          ->check(CLI::IsMember(option_values<SpinEigenProblem>()))
           ->capture_default_str();
       sub.add_option("--tolerance", a->tolerance, "Eigen-residual at which inverse iteration stops")
           ->capture_default_str();
       sub.add_option("--max-iterations", a->iterations, "Maximum inverse iterations")->capture_default_str();
       sub.add_option("--scale", a->scale, "Output normalisation: area (keep area), unit (max |v| = 1), none")
-          ->check(CLI::IsMember({"area", "unit", "none"}))
+          ->check(CLI::IsMember(option_values<SpinScale>()))
           ->capture_default_str();
       sub.add_option("--ordering", a->ordering, "Fill-reducing ordering of the vertex graph")
-          ->check(CLI::IsMember({"amd", "metis", "natural"}))
+          ->check(CLI::IsMember(option_values<VertexOrdering>()))
           ->capture_default_str();
       sub.add_flag("--real-form", a->real_form,
                    "Factor the real 4n x 4n matrix instead of the complex 2n x 2n one");
@@ -99,18 +87,12 @@ const cli::RegisterCommand reg{
         Mesh mesh = read_mesh(a->mesh);
         SpinTransformOptions o = a->spinxform ? SpinTransformOptions::spinxform() : SpinTransformOptions{};
         if (!a->spinxform) {
-          o.problem = a->problem == "generalized"  ? SpinEigenProblem::Generalized
-                      : a->problem == "unweighted" ? SpinEigenProblem::Unweighted
-                                                   : SpinEigenProblem::Standard;
+          o.problem = parse_option<SpinEigenProblem>(a->problem, "spin: --problem: ");
           o.tolerance = a->tolerance;
           o.iterations = a->iterations;
-          o.scale = a->scale == "unit"   ? SpinScale::UnitMaxNorm
-                    : a->scale == "none" ? SpinScale::None
-                                         : SpinScale::KeepArea;
+          o.scale = parse_option<SpinScale>(a->scale, "spin: --scale: ");
         }
-        o.ordering = a->ordering == "amd"       ? VertexOrdering::AMD
-                     : a->ordering == "natural" ? VertexOrdering::Natural
-                                                : VertexOrdering::METIS;
+        o.ordering = parse_option<VertexOrdering>(a->ordering, "spin: --ordering: ");
         o.complex_form = !a->real_form;
 
         // Image mode works on the mesh centred and scaled to max |v| = 1 (rho has units 1/length and
@@ -163,7 +145,7 @@ const cli::RegisterCommand reg{
           j["faces"] = mesh.F.rows();
           j["unknowns"] = st.num_unknowns();
           j["factor_nonzeros"] = st.factor_nonzeros();
-          j["problem"] = problem_name(o.problem);
+          j["problem"] = std::string(option_name(o.problem));
           j["bind_ms"] = t.bind;
           j["assembly_ms"] = t.assembly;
           j["factor_ms"] = t.factor;
@@ -179,7 +161,7 @@ const cli::RegisterCommand reg{
           std::cout << j.dump(2) << '\n';
         } else if (!a->quiet) {
           std::printf("spin: %lld vertices, %lld faces, %s problem\n", static_cast<long long>(mesh.V.rows()),
-                      static_cast<long long>(mesh.F.rows()), problem_name(o.problem));
+                      static_cast<long long>(mesh.F.rows()), option_name(o.problem).data());
           std::printf("  eigenvalue %.10g after %d inverse iterations (residual %.3g)\n", r.eigenvalue,
                       r.iterations, r.residual);
           std::printf("  times (ms): bind %.1f, assembly %.1f, factor %.1f, eigen %.1f, poisson %.1f\n",

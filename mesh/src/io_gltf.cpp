@@ -981,20 +981,33 @@ void write_gltf_morph_animation(const std::filesystem::path& path, const Mesh& r
         throw Error(file + ": face " + std::to_string(f) + " index out of range");
   const bool uv = rest.has_uv();
 
-  // glTF vertices: one per distinct (vertex, uv index) corner pair (UVs split vertices at seams).
+  // glTF vertices: one per distinct (vertex, uv index) corner pair (UVs split vertices at seams),
+  // ordered by vertex (the copies of a vertex are contiguous, in order of first use), so that welding
+  // equal positions back (read_gltf_morph_animation) returns the vertices in `rest`'s order.
   std::vector<int> vert_of, uv_of;
   std::vector<uint32_t> indices(static_cast<size_t>(3 * m));
   {
-    std::unordered_map<uint64_t, uint32_t> id;
+    std::vector<std::vector<int>> uvs_of(static_cast<size_t>(n));  // distinct uv indices per vertex
     for (Eigen::Index f = 0; f < m; ++f)
       for (int k = 0; k < 3; ++k) {
         const int v = rest.F(f, k), t = uv ? rest.FUV(f, k) : 0;
         if (uv && (t < 0 || t >= rest.UV.rows()))
           throw Error(file + ": face " + std::to_string(f) + " uv index out of range");
-        const uint64_t key = (static_cast<uint64_t>(v) << 32) | static_cast<uint32_t>(t);
-        const auto [it, inserted] = id.emplace(key, static_cast<uint32_t>(vert_of.size()));
-        if (inserted) vert_of.push_back(v), uv_of.push_back(t);
-        indices[static_cast<size_t>(3 * f + k)] = it->second;
+        auto& list = uvs_of[static_cast<size_t>(v)];
+        if (std::find(list.begin(), list.end(), t) == list.end()) list.push_back(t);
+      }
+    std::vector<uint32_t> first_id(static_cast<size_t>(n));
+    for (Eigen::Index v = 0; v < n; ++v) {
+      first_id[static_cast<size_t>(v)] = static_cast<uint32_t>(vert_of.size());
+      for (int t : uvs_of[static_cast<size_t>(v)]) vert_of.push_back(static_cast<int>(v)), uv_of.push_back(t);
+    }
+    for (Eigen::Index f = 0; f < m; ++f)
+      for (int k = 0; k < 3; ++k) {
+        const int v = rest.F(f, k), t = uv ? rest.FUV(f, k) : 0;
+        const auto& list = uvs_of[static_cast<size_t>(v)];
+        indices[static_cast<size_t>(3 * f + k)] =
+            first_id[static_cast<size_t>(v)] +
+            static_cast<uint32_t>(std::find(list.begin(), list.end(), t) - list.begin());
       }
   }
   const size_t nv = vert_of.size(), nframes = frames.size();
@@ -1129,6 +1142,227 @@ void write_gltf_morph_animation(const std::filesystem::path& path, const Mesh& r
   if (!writer.WriteGltfSceneToStream(&model, os, !glb, glb))
     throw Error(file + ": tinygltf could not serialise the model");
   write_text_atomic(path, os.str());
+}
+
+// ---- baked output read back ---------------------------------------------------------------------------
+
+GltfMorphAnimation read_gltf_morph_animation(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  if (!std::filesystem::exists(path)) throw Error(file + ": no such file");
+  const std::string ext = lower_ext(path);
+  if (ext != ".gltf" && ext != ".glb")
+    throw Error(file + ": not a glTF file (expected extension .gltf or .glb)");
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(&ignore_image, nullptr);
+  tinygltf::Model model;
+  std::string err, warn;
+  const bool ok = ext == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, file)
+                                : loader.LoadASCIIFromFile(&model, &err, &warn, file);
+  if (!ok) {
+    while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
+    throw Error(file + ": " + (err.empty() ? std::string("tinygltf could not parse the file") : err));
+  }
+  const Reader rd{model, file};
+  if (!model.extensionsRequired.empty())
+    rd.fail("requires extension '" + model.extensionsRequired.front() + "' (unsupported)");
+
+  // The node: the first one whose mesh has morph targets.
+  const int N = static_cast<int>(model.nodes.size());
+  int node = -1;
+  for (int i = 0; i < N && node < 0; ++i) {
+    const int mi = model.nodes[i].mesh;
+    if (mi < 0 || mi >= static_cast<int>(model.meshes.size())) continue;
+    for (const auto& prim : model.meshes[mi].primitives)
+      if (!prim.targets.empty()) node = i;
+  }
+  if (node < 0) rd.fail("no mesh with morph targets (not a baked animation)");
+  const tinygltf::Mesh& gmesh = model.meshes[model.nodes[node].mesh];
+  GltfMorphAnimation out;
+  out.name = gmesh.name;
+
+  // Global matrix: the chain of parents' rest matrices (a node with two parents or a cycle is an error).
+  {
+    std::vector<int> parent(N, -1);
+    for (int i = 0; i < N; ++i)
+      for (int c : model.nodes[i].children) {
+        if (c < 0 || c >= N)
+          rd.fail("node " + std::to_string(i) + ": child " + std::to_string(c) + " does not exist");
+        if (parent[c] >= 0) rd.fail("node " + std::to_string(c) + " has two parents");
+        parent[c] = i;
+      }
+    auto local = [&](int i) {
+      const tinygltf::Node& nd = model.nodes[i];
+      const std::string label = "node " + std::to_string(i);
+      auto check = [&](const std::vector<double>& v, size_t size, const char* what) {
+        if (v.size() != size) rd.fail(label + ": " + what + " has " + std::to_string(v.size()) + " numbers");
+        for (double x : v)
+          if (!std::isfinite(x)) rd.fail(label + ": " + what + " is not finite");
+      };
+      if (!nd.matrix.empty()) {
+        check(nd.matrix, 16, "matrix");
+        return Eigen::Matrix4d(Eigen::Map<const Eigen::Matrix4d>(nd.matrix.data()));
+      }
+      Eigen::Vector3d t = Eigen::Vector3d::Zero(), sc = Eigen::Vector3d::Ones();
+      Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+      if (!nd.translation.empty())
+        check(nd.translation, 3, "translation"), t = Eigen::Vector3d(nd.translation.data());
+      if (!nd.scale.empty()) check(nd.scale, 3, "scale"), sc = Eigen::Vector3d(nd.scale.data());
+      if (!nd.rotation.empty()) {
+        check(nd.rotation, 4, "rotation");
+        const Eigen::Vector4d r(nd.rotation.data());
+        if (r.norm() < 1e-6) rd.fail(label + ": rotation is the zero quaternion");
+        q = quat_xyzw(r.normalized());
+      }
+      return trs_matrix(t, q, sc);
+    };
+    int steps = 0;
+    for (int i = node; i >= 0; i = parent[i]) {
+      if (++steps > N) rd.fail("node " + std::to_string(node) + " lies on a cycle of children");
+      out.node_matrix = local(i) * out.node_matrix;
+    }
+  }
+
+  // Primitives: base positions, UVs, triangles, and the targets' displacements (file vertices).
+  std::vector<Eigen::Vector3d> P;
+  std::vector<Eigen::Vector2d> UV;
+  std::vector<std::array<int, 3>> T;
+  std::vector<std::vector<Eigen::Vector3d>> D;  // per target, per file vertex
+  bool any_uv = false;
+  const std::string mlabel =
+      "mesh '" + (gmesh.name.empty() ? std::to_string(model.nodes[node].mesh) : gmesh.name) + "'";
+  for (size_t pi = 0; pi < gmesh.primitives.size(); ++pi) {
+    const tinygltf::Primitive& prim = gmesh.primitives[pi];
+    const std::string plabel = "primitive " + std::to_string(pi) + " of " + mlabel;
+    if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES)
+      rd.fail(plabel + ": mode " + std::to_string(prim.mode) + " is not supported (only TRIANGLES, mode 4)");
+    if (pi == 0) D.resize(prim.targets.size());
+    if (prim.targets.size() != D.size())
+      rd.fail(plabel + ": " + std::to_string(prim.targets.size()) + " morph targets, primitive 0 has " +
+              std::to_string(D.size()));
+    auto attr = [&](const std::map<std::string, int>& attrs, const std::string& name) {
+      const auto it = attrs.find(name);
+      return it == attrs.end() ? -1 : it->second;
+    };
+    const int pos = attr(prim.attributes, "POSITION");
+    if (pos < 0) rd.fail(plabel + ": no POSITION attribute");
+    const RowMatrix pv = rd.read(pos, TINYGLTF_TYPE_VEC3, Reader::Kind::Float, "POSITION of " + plabel);
+    const int base = static_cast<int>(P.size());
+    const Eigen::Index nv = pv.rows();
+    for (Eigen::Index i = 0; i < nv; ++i) P.emplace_back(pv(i, 0), pv(i, 1), pv(i, 2));
+    const int tc = attr(prim.attributes, "TEXCOORD_0");
+    if (tc >= 0) {
+      any_uv = true;
+      const RowMatrix uv =
+          rd.read(tc, TINYGLTF_TYPE_VEC2, Reader::Kind::FloatOrNormalized, "TEXCOORD_0 of " + plabel);
+      if (uv.rows() != nv)
+        rd.fail("TEXCOORD_0 of " + plabel + ": " + std::to_string(uv.rows()) + " elements for " +
+                std::to_string(nv) + " vertices");
+      for (Eigen::Index i = 0; i < nv; ++i) UV.emplace_back(uv(i, 0), 1.0 - uv(i, 1));
+    } else {
+      for (Eigen::Index i = 0; i < nv; ++i) UV.emplace_back(0.0, 0.0);
+    }
+    for (size_t f = 0; f < D.size(); ++f) {
+      const std::string tlabel = "POSITION of morph target " + std::to_string(f) + " of " + plabel;
+      const int ta = attr(prim.targets[f], "POSITION");
+      if (ta < 0) rd.fail(tlabel + ": missing");
+      const RowMatrix dv = rd.read(ta, TINYGLTF_TYPE_VEC3, Reader::Kind::Float, tlabel);
+      if (dv.rows() != nv)
+        rd.fail(tlabel + ": " + std::to_string(dv.rows()) + " elements for " + std::to_string(nv) +
+                " vertices");
+      for (Eigen::Index i = 0; i < nv; ++i) D[f].emplace_back(dv(i, 0), dv(i, 1), dv(i, 2));
+    }
+    std::vector<int> idx;
+    if (prim.indices >= 0) {
+      const RowMatrix iv =
+          rd.read(prim.indices, TINYGLTF_TYPE_SCALAR, Reader::Kind::UnsignedIndex, "indices of " + plabel);
+      for (Eigen::Index k = 0; k < iv.rows(); ++k) {
+        if (iv(k, 0) >= static_cast<double>(nv))
+          rd.fail("indices of " + plabel + ": index " + std::to_string(k) + " is out of range (" +
+                  std::to_string(nv) + " vertices)");
+        idx.push_back(static_cast<int>(iv(k, 0)));
+      }
+    } else {
+      for (Eigen::Index k = 0; k < nv; ++k) idx.push_back(static_cast<int>(k));
+    }
+    if (idx.size() % 3 != 0)
+      rd.fail(plabel + ": " + std::to_string(idx.size()) + " indices, not a multiple of 3 (TRIANGLES)");
+    for (size_t k = 0; k < idx.size(); k += 3)
+      T.push_back({base + idx[k], base + idx[k + 1], base + idx[k + 2]});
+  }
+  if (T.empty()) rd.fail(mlabel + " has no triangles");
+
+  // Weld equal base positions (as read_gltf); a welded vertex takes its first file vertex's frames.
+  const Eigen::Index nf = static_cast<Eigen::Index>(P.size());
+  std::unordered_map<PositionKey, int, PositionHash> first;
+  std::vector<int> surface(static_cast<size_t>(nf)), representative;
+  for (Eigen::Index i = 0; i < nf; ++i) {
+    PositionKey key{{P[i].x() + 0.0, P[i].y() + 0.0, P[i].z() + 0.0}};
+    const auto [it, inserted] = first.emplace(key, static_cast<int>(representative.size()));
+    if (inserted) representative.push_back(static_cast<int>(i));
+    surface[static_cast<size_t>(i)] = it->second;
+  }
+  const Eigen::Index n = static_cast<Eigen::Index>(representative.size());
+  out.mesh.V.resize(n, 3);
+  for (Eigen::Index v = 0; v < n; ++v) out.mesh.V.row(v) = P[representative[v]].transpose();
+  std::vector<std::array<int, 3>> kept;
+  for (const auto& t : T) {
+    const int a = surface[t[0]], b = surface[t[1]], c = surface[t[2]];
+    if (a != b && b != c && a != c) kept.push_back(t);
+  }
+  if (kept.empty()) rd.fail(mlabel + ": every triangle is degenerate");
+  out.mesh.F.resize(static_cast<Eigen::Index>(kept.size()), 3);
+  for (size_t f = 0; f < kept.size(); ++f)
+    for (int k = 0; k < 3; ++k) out.mesh.F(static_cast<Eigen::Index>(f), k) = surface[kept[f][k]];
+  if (any_uv) {
+    out.mesh.UV.resize(nf, 2);
+    for (Eigen::Index i = 0; i < nf; ++i) out.mesh.UV.row(i) = UV[i].transpose();
+    out.mesh.FUV.resize(out.mesh.F.rows(), 3);
+    for (size_t f = 0; f < kept.size(); ++f)
+      for (int k = 0; k < 3; ++k) out.mesh.FUV(static_cast<Eigen::Index>(f), k) = kept[f][k];
+  }
+  out.frames.resize(D.size());
+  for (size_t f = 0; f < D.size(); ++f) {
+    out.frames[f].resize(n, 3);
+    for (Eigen::Index v = 0; v < n; ++v)
+      out.frames[f].row(v) = (P[representative[v]] + D[f][representative[v]]).transpose();
+  }
+
+  // Times: the first animation channel on this node's weights.
+  out.times.resize(D.size());
+  for (size_t f = 0; f < D.size(); ++f) out.times[f] = static_cast<double>(f);
+  for (size_t ai = 0; ai < model.animations.size(); ++ai) {
+    const tinygltf::Animation& an = model.animations[ai];
+    for (const auto& ch : an.channels) {
+      if (ch.target_node != node || ch.target_path != "weights") continue;
+      const std::string label =
+          "animation " + std::to_string(ai) + " (weights of node " + std::to_string(node) + ")";
+      if (ch.sampler < 0 || ch.sampler >= static_cast<int>(an.samplers.size()))
+        rd.fail(label + ": sampler does not exist");
+      const tinygltf::AnimationSampler& sm = an.samplers[ch.sampler];
+      const RowMatrix tin = rd.read(sm.input, TINYGLTF_TYPE_SCALAR, Reader::Kind::Float, "input of " + label);
+      const RowMatrix wout =
+          rd.read(sm.output, TINYGLTF_TYPE_SCALAR, Reader::Kind::FloatOrNormalized, "output of " + label);
+      const Eigen::Index keys = tin.rows(), nt = static_cast<Eigen::Index>(D.size());
+      const Eigen::Index per = sm.interpolation == "CUBICSPLINE" ? 3 : 1;
+      if (wout.rows() != keys * nt * per)
+        rd.fail(label + ": " + std::to_string(wout.rows()) + " weights for " + std::to_string(keys) +
+                " keys and " + std::to_string(nt) + " targets");
+      std::vector<bool> seen(D.size(), false);
+      for (Eigen::Index k = 0; k < keys; ++k) {
+        const Eigen::Index row0 = (k * per + (per == 3 ? 1 : 0)) * nt;
+        Eigen::Index best = 0;
+        for (Eigen::Index f = 1; f < nt; ++f)
+          if (wout(row0 + f, 0) > wout(row0 + best, 0)) best = f;
+        if (!seen[best]) seen[best] = true, out.times[best] = tin(k, 0);
+      }
+      for (size_t f = 0; f < D.size(); ++f)
+        if (!seen[f])
+          rd.fail(label + ": morph target " + std::to_string(f) +
+                  " is never the largest weight (not a baked frame sequence)");
+      return out;
+    }
+  }
+  return out;
 }
 
 }  // namespace spinmotor

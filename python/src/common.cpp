@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 namespace spinmotor::python {
@@ -178,27 +179,35 @@ Mesh to_mesh(py::handle V, py::handle F, bool finite, const char* vname, const c
   return m;
 }
 
+// Copies through Eigen maps (a vectorised, cache-friendly transposing copy; the element-wise unchecked
+// loop it replaced took 15 ms for 1M×3, more than half of an LBS pose of that size).
 py::array_t<double> to_numpy(const Eigen::MatrixXd& M) {
   py::array_t<double> a({static_cast<py::ssize_t>(M.rows()), static_cast<py::ssize_t>(M.cols())});
-  auto u = a.mutable_unchecked<2>();
-  for (Eigen::Index i = 0; i < M.rows(); ++i)
-    for (Eigen::Index j = 0; j < M.cols(); ++j) u(i, j) = M(i, j);
+  Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(a.mutable_data(),
+                                                                                     M.rows(), M.cols()) = M;
   return a;
 }
 
 py::array_t<double> to_numpy(const Eigen::VectorXd& v) {
   py::array_t<double> a(static_cast<py::ssize_t>(v.size()));
-  auto u = a.mutable_unchecked<1>();
-  for (Eigen::Index i = 0; i < v.size(); ++i) u(i) = v[i];
+  Eigen::Map<Eigen::VectorXd>(a.mutable_data(), v.size()) = v;
   return a;
 }
 
 py::array_t<int> to_numpy(const Eigen::MatrixXi& M) {
   py::array_t<int> a({static_cast<py::ssize_t>(M.rows()), static_cast<py::ssize_t>(M.cols())});
-  auto u = a.mutable_unchecked<2>();
-  for (Eigen::Index i = 0; i < M.rows(); ++i)
-    for (Eigen::Index j = 0; j < M.cols(); ++j) u(i, j) = M(i, j);
+  Eigen::Map<Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(a.mutable_data(), M.rows(),
+                                                                                  M.cols()) = M;
   return a;
+}
+
+py::array_t<double> to_numpy_owned(Eigen::MatrixXd&& M) {
+  auto owned = std::make_unique<Eigen::MatrixXd>(std::move(M));
+  py::capsule free_when_done(owned.get(), [](void* p) { delete static_cast<Eigen::MatrixXd*>(p); });
+  Eigen::MatrixXd* m = owned.release();  // the capsule owns it now
+  const auto r = static_cast<py::ssize_t>(m->rows()), c = static_cast<py::ssize_t>(m->cols());
+  const auto d = static_cast<py::ssize_t>(sizeof(double));
+  return py::array_t<double>({r, c}, {d, d * r}, m->data(), free_when_done);
 }
 
 std::vector<ga::Mot> to_motors(py::handle obj, const char* name) {

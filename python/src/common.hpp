@@ -8,6 +8,7 @@
 #include <pybind11/stl/filesystem.h>
 
 #include <Eigen/Core>
+#include <chrono>
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -66,12 +67,31 @@ py::array_t<double> to_numpy(const Eigen::MatrixXd& M);
 py::array_t<double> to_numpy(const Eigen::VectorXd& v);
 py::array_t<int> to_numpy(const Eigen::MatrixXi& M);
 
+/// The matrix moved into a new numpy array without a copy: column-major (Fortran order, Eigen's
+/// layout), owning the memory through a capsule (freed with the array). For per-frame outputs, where
+/// the copy into C order cost as much as an LBS pose (1M vertices: 6-15 ms).
+py::array_t<double> to_numpy_owned(Eigen::MatrixXd&& M);
+
 /// A list of spinmotor.Motor (or anything convertible) as motors.
 std::vector<ga::Mot> to_motors(py::handle obj, const char* name);
 
 /// JSON value -> Python object (dict/list/float/int/bool/str/None).
 py::object to_python(const nlohmann::ordered_json& j);
 py::object to_python(const nlohmann::json& j);
+
+/// Wall-clock milliseconds of `repeats` calls of f() (GIL released by the caller), one entry per call:
+/// the private _time_* hooks that bench/python_overhead.py compares the Python calls with.
+template <class Fn>
+std::vector<double> time_calls(int repeats, Fn&& f) {
+  if (repeats < 1) throw Error("repeats: must be >= 1");
+  std::vector<double> ms;
+  for (int k = 0; k < repeats; ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    f();
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  }
+  return ms;
+}
 
 /// Module parts (one source file each).
 void bind_mesh(py::module_& m);

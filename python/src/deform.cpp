@@ -144,7 +144,8 @@ pose(motors) -> V
 
 Inputs:  motors: list of unit spinmotor.Motor, one per control (in the order of .controls), relative
          to the rest pose (all identities reproduce the rest mesh).
-Output:  (n, 3) float64 deformed positions.
+Output:  (n, 3) float64 deformed positions: a column-major (Fortran-ordered) array that owns the
+         C++ result's memory (no copy; a new array per call).
 Errors:  spinmotor.Error for a wrong count ("expected k motors (one per control), got m") or a
          non-finite motor (naming the control); numerical Error when the deformer's solve fails.
 The GIL is released during the pose; one pose at a time per object.
@@ -162,10 +163,14 @@ Attributes:
   vertices: number of mesh vertices
   type:     the C++ class name
 )doc")
-      .def_property_readonly("controls", [](const PyDeformer& p) { return controls_list(p.d); })
-      .def_property_readonly("vertices",
-                             [](const PyDeformer& p) { return static_cast<long long>(p.d.vertices()); })
-      .def_property_readonly("type", [](const PyDeformer& p) { return p.type; })
+      .def_property_readonly(
+          "controls", [](const PyDeformer& p) { return controls_list(p.d); },
+          "controls -> list of (name, anchor (3,)) pairs in pose order: what pose() takes one motor for.")
+      .def_property_readonly(
+          "vertices", [](const PyDeformer& p) { return static_cast<long long>(p.d.vertices()); },
+          "vertices -> int: the number of mesh vertices (rows of pose()'s output).")
+      .def_property_readonly(
+          "type", [](const PyDeformer& p) { return p.type; }, "type -> str: the C++ class name.")
       .def(
           "pose",
           [](PyDeformer& p, py::object motors) {
@@ -176,9 +181,21 @@ Attributes:
               std::lock_guard<std::mutex> guard(*p.lock);
               p.d.pose(ms, V);
             }
-            return to_numpy(V);
+            return to_numpy_owned(std::move(V));  // no copy: the array takes the matrix
           },
           py::arg("motors"), kPoseDoc)
+      .def(
+          "_time_pose",
+          [](PyDeformer& p, py::object motors, int repeats) {
+            // Private (bench/python_overhead.py): the C++ call alone, as a C++ caller makes it per
+            // frame (motors converted once, the output matrix reused).
+            const std::vector<ga::Mot> ms = to_motors(motors, "motors");
+            Eigen::MatrixXd V;
+            py::gil_scoped_release release;
+            std::lock_guard<std::mutex> guard(*p.lock);
+            return time_calls(repeats, [&] { p.d.pose(ms, V); });
+          },
+          py::arg("motors"), py::arg("repeats") = 5)
       .def("__repr__", [](const PyDeformer& p) {
         return "<spinmotor." + p.type + " " + std::to_string(p.d.vertices()) + " vertices, " +
                std::to_string(p.d.controls().size()) + " controls>";
@@ -260,6 +277,8 @@ FfdDeformer(V, F=None, lattice=(4, 4, 4), basis="bezier", degree=3, mode="motor"
   basis: "bezier" | "bspline"; mode: "motor" | "position"; blend (motor mode): "log" | "dlb";
   box: ((xmin, ymin, zmin), (xmax, ymax, zmax)) or None for the bounding box grown by margin.
   Controls "ffd[a,b,c]" at the lattice points.
+Errors: spinmotor.Error for bad arrays, a lattice below the basis' order, an unknown name (listing the
+valid ones), an empty box.
 )doc")
         .def(py::init([](py::object V, py::object F, std::array<int, 3> lattice, const std::string& basis,
                          int degree, const std::string& mode, const std::string& blend, py::object box,
@@ -324,15 +343,17 @@ Errors: spinmotor.Error for a bad cage (open, misoriented) or a mesh vertex outs
       "  skeleton: list of bones, each a dict {name, parent=-1, head, tail, rest=Motor()} or a tuple\n"
       "            (name, parent, head, tail[, rest]); weights: (n, B) dense non-negative array, columns in\n"
       "            bone order, every row with a positive entry (<= 4 largest kept, renormalised).\n"
-      "  One control per bone (anchored at its head); pose() takes the posed world frames F_j.\n";
+      "  One control per bone (anchored at its head); pose() takes the posed world frames F_j.\n"
+      "Errors: spinmotor.Error for a bad skeleton (naming the bone), weights of the wrong shape, negative,\n"
+      "non-finite or with an all-zero row (naming the row), an unknown blend (listing the valid ones).\n";
   {
     using D = SkinDeformer;
     const D::Options def{};
     py::class_<PySkin, PyDeformer>(
         m, "SkinDeformer",
-        (std::string("Skinning with motors.\n\nSkinDeformer(V, F, skeleton, weights, "
-                     "blend=\"dlb\")\n") +
-         kSkeletonDoc + "  blend: \"lbs\" | \"dlb\" | \"log\" | \"pivot-log\".\n")
+        (std::string("Skinning with motors.\n\nSkinDeformer(V, F, skeleton, weights, blend=\"") +
+         std::string(option_name(def.blend)) +
+         "\")\n  blend: \"lbs\" | \"dlb\" | \"log\" | \"pivot-log\".\n" + kSkeletonDoc)
             .c_str())
         .def(py::init([](py::object V, py::object F, py::object skeleton, py::object weights,
                          const std::string& blend) {
@@ -410,6 +431,8 @@ and key motors blended along it.
 SplineDeformer(V, F, handles=[(from_name, idx), (to_name, idx)], basis="bspline", degree=3, keys=4,
                weights="mean-value", key_names=None)
   One control per key ("key0".. or key_names).
+Errors: spinmotor.Error for bad arrays, bad handles (naming them), keys below the basis' order, an
+unknown name (listing the valid ones); numerical Error if the harmonic solve fails.
 )doc")
         .def(py::init([](py::object V, py::object F, py::object handles, const std::string& basis, int degree,
                          int keys, const std::string& weights, py::object key_names) {
@@ -441,6 +464,8 @@ SplineIkDeformer(V, F, handles=[from, to], chain, target, tolerance=1e-4, iterat
                  degree=3, weights="mean-value", warm_start=False)
   chain: (k, 3) rest joint positions (k >= 2, root first); target: (3,) rest target.
   One control "ik.target" (its motor carries the rest target to the frame's target).
+Errors: spinmotor.Error as SplineDeformer, and for a chain of fewer than 2 joints or a non-finite
+target.
 )doc")
         .def(py::init([](py::object V, py::object F, py::object handles, py::object chain, py::object target,
                          double tolerance, int iterations, int controls, int degree,

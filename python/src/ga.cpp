@@ -66,7 +66,9 @@ Composition: a * b applies b first, then a (as matrices).
       .def_static(
           "from_translation",
           [](py::object t) { return ga::motor(ga::Rot(1, 0, 0, 0), ga::translator(to_vec3(t, "t"))); },
-          py::arg("t"), "Motor.from_translation(t): translation by the 3-vector t.")
+          py::arg("t"),
+          "Motor.from_translation(t) -> Motor: translation by the 3-vector t. Errors: spinmotor.Error for a "
+          "wrong length or a non-finite entry.")
       .def_static(
           "exp",
           [](py::object b) {
@@ -74,7 +76,8 @@ Composition: a * b applies b first, then a (as matrices).
             return ga::exp(ga::Dll(v[0], v[1], v[2], v[3], v[4], v[5]));
           },
           py::arg("b"),
-          "Motor.exp(b): the motor exp(B) of a generator given as 6 coefficients in the order of log() "
+          "Motor.exp(b) -> Motor: the motor exp(B) of a generator given as 6 coefficients in the order of "
+          "log() "
           "(e12, e31, e23, e1inf, e2inf, e3inf). Errors: spinmotor.Error for a wrong length or a non-finite "
           "entry.")
       .def_static(
@@ -84,7 +87,8 @@ Composition: a * b applies b first, then a (as matrices).
             return ga::normalize(ga::Mot(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]));
           },
           py::arg("c"),
-          "Motor.from_coefficients(c): the 8 coefficients (s, e12, e31, e23, e1inf, e2inf, e3inf, e123inf), "
+          "Motor.from_coefficients(c) -> Motor: the 8 coefficients (s, e12, e31, e23, e1inf, e2inf, e3inf, "
+          "e123inf), "
           "normalised to a unit motor. Errors: spinmotor.Error for a zero rotor part.")
       .def(
           "to_matrix",

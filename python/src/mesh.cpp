@@ -73,10 +73,10 @@ A Mesh unpacks as (V, F):  V, F = spinmotor.icosphere(3)
            }),
            py::arg("V"), py::arg("F"), py::arg("UV") = py::none(), py::arg("FUV") = py::none(),
            "Mesh(V, F, UV=None, FUV=None). Validates shapes, dtypes and index ranges (spinmotor.Error).")
-      .def_readwrite("V", &PyMesh::V)
-      .def_readwrite("F", &PyMesh::F)
-      .def_readwrite("UV", &PyMesh::UV)
-      .def_readwrite("FUV", &PyMesh::FUV)
+      .def_readwrite("V", &PyMesh::V, "V: (n, 3) float64 vertex positions.")
+      .def_readwrite("F", &PyMesh::F, "F: (m, 3) int32 triangles (vertex indices, counter-clockwise).")
+      .def_readwrite("UV", &PyMesh::UV, "UV: (t, 2) texture coordinates, or None.")
+      .def_readwrite("FUV", &PyMesh::FUV, "FUV: (m, 3) texture coordinate index per corner, or None.")
       .def("__iter__", [](const PyMesh& p) { return py::iter(py::make_tuple(p.V, p.F)); })
       .def("__len__", [](const PyMesh&) { return 2; })
       .def("__getitem__",
@@ -203,7 +203,7 @@ Errors:  spinmotor.Error for bad shapes, NaN/inf, bad indices, an unknown alignm
       },
       py::arg("rings"), py::arg("sectors"), py::arg("radius") = 1.0,
       "uv_sphere(rings, sectors, radius=1.0) -> Mesh. Latitude-longitude sphere, rings*sectors + 2 vertices. "
-      "Requires rings >= 1, sectors >= 3, radius > 0.");
+      "Requires rings >= 1, sectors >= 3, radius > 0 (spinmotor.Error otherwise).");
   m.def(
       "grid",
       [](std::array<double, 2> size, std::array<int, 2> n) {
@@ -211,11 +211,13 @@ Errors:  spinmotor.Error for bad shapes, NaN/inf, bad indices, an unknown alignm
       },
       py::arg("size"), py::arg("n"),
       "grid(size=(sx, sy), n=(nx, ny)) -> Mesh. Planar grid in z = 0 centred at the origin, nx*ny vertices "
-      "(vertex (i, j) is i + j*nx). Requires size > 0 and n >= 2.");
+      "(vertex (i, j) is i + j*nx). Requires size > 0 and n >= 2 (spinmotor.Error otherwise).");
   m.def(
       "torus", [](double R, double r, int u, int v) { return generate([&] { return torus(R, r, u, v); }); },
       py::arg("R"), py::arg("r"), py::arg("u"), py::arg("v"),
-      "torus(R, r, u, v) -> Mesh. Torus around z, u*v vertices (genus 1). Requires 0 < r < R, u, v >= 3.");
+      "torus(R, r, u, v) -> Mesh. Torus around z, u*v vertices (genus 1). Requires 0 < r < R, u, v >= 3 "
+      "(spinmotor.Error "
+      "otherwise).");
   m.def(
       "tube",
       [](double radius, double length, int rings, int sides, bool capped) {
@@ -223,7 +225,8 @@ Errors:  spinmotor.Error for bad shapes, NaN/inf, bad indices, an unknown alignm
       },
       py::arg("radius"), py::arg("length"), py::arg("rings"), py::arg("sides"), py::arg("capped") = false,
       "tube(radius, length, rings, sides, capped=False) -> Mesh. Cylinder around z from 0 to length; ring k "
-      "is vertices k*sides .. k*sides + sides - 1. Capped: two fan centres (rings*sides, rings*sides + 1).");
+      "is vertices k*sides .. k*sides + sides - 1. Capped: two fan centres (rings*sides, rings*sides + 1). "
+      "Requires radius, length > 0, rings >= 2, sides >= 3 (spinmotor.Error otherwise).");
   m.def(
       "capsule",
       [](double radius, double length, int rings, int sides) {
@@ -231,7 +234,8 @@ Errors:  spinmotor.Error for bad shapes, NaN/inf, bad indices, an unknown alignm
       },
       py::arg("radius"), py::arg("length"), py::arg("rings"), py::arg("sides"),
       "capsule(radius, length, rings, sides) -> Mesh. Cylinder from z = 0 to length closed by hemispheres; "
-      "rings*sides + 2 vertices, poles rings*sides (south) and rings*sides + 1 (north).");
+      "rings*sides + 2 vertices, poles rings*sides (south) and rings*sides + 1 (north). Requires radius, "
+      "length >= 0, rings >= 1, sides >= 3 (spinmotor.Error otherwise).");
   m.def(
       "cross_bar",
       [](double length, double half_span, double width, int segments) {
@@ -239,7 +243,8 @@ Errors:  spinmotor.Error for bad shapes, NaN/inf, bad indices, an unknown alignm
       },
       py::arg("length") = 4.0, py::arg("half_span") = 0.5, py::arg("width") = 0.25, py::arg("segments") = 64,
       "cross_bar(length=4.0, half_span=0.5, width=0.25, segments=64) -> Mesh. Closed bar with a '+' section "
-      "along z from 0 to length.");
+      "along z from 0 to length. Requires length > 0, 0 < width < 2*half_span and segments >= 1 "
+      "(spinmotor.Error otherwise).");
 }
 
 }  // namespace spinmotor::python

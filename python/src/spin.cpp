@@ -1,12 +1,14 @@
 // Python bindings of the spin module: ConformalSnap, SpinTransform, Willmore flow, curvature fairing
 // and extrusion, the Dirac spectrum. Binds and solves release the GIL; progress callbacks take it back
 // for the call (an exception raised in a callback ends the flow and propagates).
+#include <algorithm>
 #include <memory>
 #include <mutex>
 
 #include "common.hpp"
 #include "spinmotor/core/option_names.hpp"
 #include "spinmotor/deform/rig_pins.hpp"
+#include "spinmotor/mesh/metrics/distances.hpp"
 #include "spinmotor/mesh/validate.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
 #include "spinmotor/spin/curvature_spin_flow.hpp"
@@ -21,6 +23,10 @@ namespace {
 
 struct PySnap {
   std::unique_ptr<ConformalSnap> snap;
+  // mode "pinned": the cleanup bound for the last (pins, keep) asked, rebound when they change
+  std::unique_ptr<PinnedCleanup> pinned;
+  Eigen::VectorXi pinned_pins;  // sorted, unique
+  CleanupKeep pinned_keep = CleanupKeep::Auto;
   std::unique_ptr<std::mutex> lock = std::make_unique<std::mutex>();
 };
 struct PySpin {
@@ -64,6 +70,33 @@ py::dict flow_dict(const CurvatureFlow& r) {
   d["V"] = to_numpy(r.V);
   d["willmore"] = r.willmore;
   d["closure"] = r.closure;
+  return d;
+}
+
+/// A keyword given as a Python object (None = not given) as a number / string; Error naming it otherwise.
+template <class T>
+T as(const py::object& o, const char* name, const char* expected) {
+  try {
+    return o.cast<T>();
+  } catch (const py::cast_error&) {
+    throw Error(std::string(name) + ": expected " + expected + ", got " +
+                std::string(py::str(o.get_type().attr("__name__"))));
+  }
+}
+
+/// ConformalSnap's mode "pinned", full=True (the keys of PinnedCleanup.cleanup(full=True)).
+py::dict cleanup_dict(const PinnedCleanupResult& r, const Eigen::MatrixXd& V) {
+  py::dict d;
+  d["V"] = to_numpy(V);
+  d["iterations"] = r.iterations;
+  d["converged"] = r.converged;
+  d["all_pinned"] = r.all_pinned;
+  d["keep"] = std::string(option_name(r.kept));
+  d["measure_ratio"] = r.measure_ratio();
+  d["edit_measure_ratio"] = r.rest_measure != 0 ? r.edit_measure / r.rest_measure : 1.0;
+  d["pin_error"] = r.pin_error;
+  d["energy"] = r.energy;
+  d["total_ms"] = r.total_ms;
   return d;
 }
 
@@ -145,12 +178,16 @@ cleanup(V_edit, full=False) -> V (n, 3), or with full=True a dict: V, iterations
 keep, measure_ratio (kept volume or area / rest), edit_measure_ratio, pin_error, energy (per iteration),
 total_ms. V_edit (n, 3): the edit, same connectivity as the rest mesh. No factorization per call.
 )doc")
-        .def_property_readonly("pins",
-                               [](const PyCleanup& c) {
-                                 const Eigen::VectorXi& p = c.cleanup->pins();
-                                 return std::vector<int>(p.data(), p.data() + p.size());
-                               })
-        .def_property_readonly("bind_ms", [](const PyCleanup& c) { return c.cleanup->bind_ms(); });
+        .def_property_readonly(
+            "pins",
+            [](const PyCleanup& c) {
+              const Eigen::VectorXi& p = c.cleanup->pins();
+              return std::vector<int>(p.data(), p.data() + p.size());
+            },
+            "pins -> list of int: the pinned vertices, sorted, without repeats.")
+        .def_property_readonly(
+            "bind_ms", [](const PyCleanup& c) { return c.cleanup->bind_ms(); },
+            "bind_ms -> float: the time of the bind (constructor) in milliseconds.");
     m.def(
         "pins_from_weights",
         [](py::object V, py::object W, double threshold, double margin) {
@@ -180,25 +217,35 @@ the bad row or parameter.
   // ---- ConformalSnap -------------------------------------------------------------------------------
   {
     const ConformalSnapOptions def{};
+    const PinnedCleanupOptions cleanup_def{};
     py::class_<PySnap>(m, "ConformalSnap", R"doc(
-The conformal snap (spin/conformal_snap.hpp): the spin transformation of the rest mesh nearest to an
-edit (optimal rho, Crane et al. 2011 section 7.2), blended with the edit by `tradeoff` and aligned to it.
+The conformal snap of an edit (spin/conformal_snap.hpp, `spinmotor snap`) in its three modes: free, the
+spin transformation of the rest mesh nearest to the edit (optimal rho, Crane et al. 2011 section 7.2),
+blended with the edit by `tradeoff` and aligned to it; shape, the extrusion toward the edit's curvature
+(Le Folgoc et al. 2019); pinned, the pose-keeping cleanup (pins stay where the edit put them).
 
-ConformalSnap(V, F, boundary_tangents=True, rho_smoothing=0, tolerance=1e-10, iterations=50)
+ConformalSnap(V, F, boundary_tangents=True, rho_smoothing=0, tolerance=1e-10, iterations=50,
+              problem="standard", alignment="similarity")
   V (n, 3), F (m, 3): the rest mesh, a connected oriented manifold without degenerate faces or
-  unreferenced vertices. The bind (ordering, symbolic analysis, Laplacian factor) happens here, once.
-  boundary_tangents: open meshes prescribe the edit's boundary tangents; rho_smoothing: passes of
-  rho averaging (for creased edits); tolerance / iterations: the inverse iteration.
-Errors: spinmotor.Error naming the first offending element; numerical Error if a factorization fails.
+  unreferenced vertices. The free mode's bind (ordering, symbolic analysis, Laplacian factor) happens
+  here, once. boundary_tangents: open meshes prescribe the edit's boundary tangents; rho_smoothing:
+  passes of rho averaging (for creased edits); tolerance / iterations: the inverse iteration; problem:
+  standard (eq. 7) or generalized (eq. 6, closed meshes); alignment: placement onto the edit,
+  similarity, translation or none (option_values("problem"), option_values("align")).
+Errors: spinmotor.Error naming the first offending element or the bad option value (listing the valid
+ones); numerical Error if a factorization fails.
 )doc")
         .def(py::init([](py::object V, py::object F, bool boundary_tangents, int rho_smoothing,
-                         double tolerance, int iterations) {
+                         double tolerance, int iterations, const std::string& problem,
+                         const std::string& alignment) {
                const Mesh rest = to_mesh(V, F);
                ConformalSnapOptions o;
                o.boundary_tangents = boundary_tangents;
                o.rho_smoothing = rho_smoothing;
                o.tolerance = tolerance;
                o.iterations = iterations;
+               o.problem = parse_option<SpinEigenProblem>(problem, "problem: ");
+               o.alignment = parse_option<SnapAlignment>(alignment, "alignment: ");
                PySnap p;
                py::gil_scoped_release release;
                p.snap = std::make_unique<ConformalSnap>(rest, o);
@@ -206,35 +253,147 @@ Errors: spinmotor.Error naming the first offending element; numerical Error if a
              }),
              py::arg("V"), py::arg("F"), py::arg("boundary_tangents") = def.boundary_tangents,
              py::arg("rho_smoothing") = def.rho_smoothing, py::arg("tolerance") = def.tolerance,
-             py::arg("iterations") = def.iterations)
+             py::arg("iterations") = def.iterations,
+             py::arg("problem") = std::string(option_name(def.problem)),
+             py::arg("alignment") = std::string(option_name(def.alignment)))
         .def(
             "snap",
-            [](PySnap& p, py::object V_edit, double tradeoff, bool full) -> py::object {
+            [def, cleanup_def](PySnap& p, py::object V_edit, py::object tradeoff, bool full,
+                               py::object mode_obj, py::object pins_obj, py::object keep_obj,
+                               py::object steps_obj, py::object area_obj) -> py::object {
+              const Mesh& rest = p.snap->rest();
               const Eigen::MatrixXd E = to_points(V_edit, "V_edit");
-              if (E.rows() != p.snap->rest().V.rows())
+              if (E.rows() != rest.V.rows())
                 throw Error("V_edit: has " + std::to_string(E.rows()) + " vertices, the rest mesh " +
-                            std::to_string(p.snap->rest().V.rows()));
-              ConformalSnapResult r;
+                            std::to_string(rest.V.rows()));
+              // The mode: as `spinmotor snap`, pinned when pins are given without a mode, else free.
+              const SnapMode mode =
+                  !mode_obj.is_none()
+                      ? parse_option<SnapMode>(as<std::string>(mode_obj, "mode", "a str"), "mode: ")
+                      : (pins_obj.is_none() ? SnapMode::Free : SnapMode::Pinned);
+              const std::string mname(option_name(mode));
+              auto only = [&](const py::object& o, const char* what, SnapMode owner) {
+                if (!o.is_none() && mode != owner)
+                  throw Error(std::string(what) + ": belongs to mode \"" + std::string(option_name(owner)) +
+                              "\", not \"" + mname + "\"");
+              };
+              only(tradeoff, "tradeoff", SnapMode::Free);
+              only(pins_obj, "pins", SnapMode::Pinned);
+              only(keep_obj, "keep", SnapMode::Pinned);
+              only(steps_obj, "steps", SnapMode::Shape);
+              only(area_obj, "area_constraint", SnapMode::Shape);
+              if (mode == SnapMode::Free) {
+                const double t =
+                    tradeoff.is_none() ? def.tradeoff : as<double>(tradeoff, "tradeoff", "a number");
+                ConformalSnapResult r;
+                {
+                  py::gil_scoped_release release;
+                  std::lock_guard<std::mutex> guard(*p.lock);
+                  p.snap->set_tradeoff(t);
+                  r = p.snap->snap(E);
+                }
+                if (full) return snap_dict(r);
+                return to_numpy(r.V);
+              }
+              if (mode == SnapMode::Shape) {
+                const int steps = steps_obj.is_none() ? 4 : as<int>(steps_obj, "steps", "an int");
+                CurvatureSpinOptions co = kExtrusionOptions;
+                co.area_epsilon =
+                    area_obj.is_none() ? 0.0 : as<double>(area_obj, "area_constraint", "a number");
+                require(rest, {.manifold = true, .oriented = true, .closed = true}, "snap mode shape");
+                CurvatureFlow flow;
+                Eigen::MatrixXd V;
+                {
+                  py::gil_scoped_release release;
+                  flow = curvature_extrusion(rest.V, rest.F, E, steps, co);
+                  V = umeyama_fit(flow.V, E).apply(flow.V);
+                }
+                if (!full) return to_numpy(V);
+                py::dict d = flow_dict(flow);
+                d["V"] = to_numpy(V);
+                return d;
+              }
+              // Pinned: bind (or reuse) the cleanup for these pins and keep.
+              if (pins_obj.is_none())
+                throw Error("pins: mode \"pinned\" needs the vertices to keep in place");
+              Eigen::VectorXi pins = to_int_vector(pins_obj, "pins");
+              const CleanupKeep keep =
+                  keep_obj.is_none()
+                      ? cleanup_def.keep
+                      : parse_option<CleanupKeep>(as<std::string>(keep_obj, "keep", "a str"), "keep: ");
+              std::vector<int> sorted(pins.data(), pins.data() + pins.size());
+              std::sort(sorted.begin(), sorted.end());
+              sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+              const Eigen::VectorXi key =
+                  Eigen::Map<const Eigen::VectorXi>(sorted.data(), static_cast<Eigen::Index>(sorted.size()));
+              Eigen::MatrixXd V;
+              PinnedCleanupResult r;
               {
                 py::gil_scoped_release release;
                 std::lock_guard<std::mutex> guard(*p.lock);
-                p.snap->set_tradeoff(tradeoff);
-                r = p.snap->snap(E);
+                if (!p.pinned || p.pinned_keep != keep || p.pinned_pins.size() != key.size() ||
+                    p.pinned_pins != key) {
+                  PinnedCleanupOptions o;
+                  o.keep = keep;
+                  p.pinned.reset();
+                  p.pinned = std::make_unique<PinnedCleanup>(PinnedCleanup::bind(rest, pins, o));
+                  p.pinned_pins = key;
+                  p.pinned_keep = keep;
+                }
+                r = p.pinned->cleanup(E, V);
               }
-              if (full) return snap_dict(r);
-              return to_numpy(r.V);
+              if (!full) return to_numpy(V);
+              return cleanup_dict(r, V);
             },
-            py::arg("V_edit"), py::arg("tradeoff") = def.tradeoff, py::arg("full") = false, R"doc(
-snap(V_edit, tradeoff=1.0, full=False) -> V (or a dict when full=True)
+            py::arg("V_edit"), py::arg("tradeoff") = py::none(), py::arg("full") = false,
+            py::arg("mode") = py::none(), py::arg("pins") = py::none(), py::arg("keep") = py::none(),
+            py::arg("steps") = py::none(), py::arg("area_constraint") = py::none(), R"doc(
+snap(V_edit, tradeoff=None, full=False, mode=None, pins=None, keep=None, steps=None,
+     area_constraint=None) -> V (n, 3), or a dict when full=True. What `spinmotor snap` computes.
 
-Inputs:  V_edit (n, 3) finite, same vertex order as the rest mesh; tradeoff t in [0, 1]: 0 follows the
-         edit, 1 is conformal (Fig. 21).
-Output:  (n, 3) snapped positions; full=True: dict with V, rho (m,), mu (n, 4), lambda (n, 4),
-         eigenvalue, iterations, residual, collapsed_faces, alignment_scale, timings_ms.
-Errors:  spinmotor.Error for a wrong size, a non-finite coordinate, tradeoff outside [0, 1];
-         numerical Error if the solve fails. The GIL is released.
+Inputs:  V_edit (n, 3) finite, same vertex order as the rest mesh.
+         mode: "free" (default without pins; "spin" is its former name), "shape" or "pinned" (default
+         when pins are given); option_values("snap-mode").
+         free:   tradeoff t in [0, 1] (default 1): 0 follows the edit, 1 is conformal (Fig. 21).
+         shape:  steps (default 4) extrusion steps from the rest mesh toward the edit's curvature,
+                 area_constraint (default 0 = off); closed meshes; the result is placed on the edit by
+                 the best similarity.
+         pinned: pins: vertex indices kept exactly where V_edit has them; keep: "auto" (default),
+                 "volume", "area" or "none". The cleanup is bound on the first call with these pins
+                 and keep and reused while they stay the same.
+Output:  (n, 3) snapped positions. full=True: free: dict with V, rho (m,), mu (n, 4), lambda (n, 4),
+         eigenvalue, iterations, residual, collapsed_faces, alignment_scale, timings_ms; shape: V,
+         willmore, closure; pinned: as PinnedCleanup.cleanup(full=True).
+Errors:  spinmotor.Error for a wrong size, a non-finite coordinate, an unknown mode or keep (listing
+         the valid names), an option of another mode, tradeoff outside [0, 1], bad pins (see
+         PinnedCleanup), an open mesh in mode shape; numerical Error if a solve fails. The GIL is
+         released.
 )doc");
   }
+
+  // ---- private timing hooks (bench/python_overhead.py): the C++ calls alone, outputs reused ---------
+  py::reinterpret_borrow<py::class_<PyCleanup>>(m.attr("PinnedCleanup"))
+      .def(
+          "_time_cleanup",
+          [](PyCleanup& c, py::object V_edit, int repeats) {
+            const Eigen::MatrixXd E = to_points(V_edit, "V_edit");
+            Eigen::MatrixXd V;
+            py::gil_scoped_release release;
+            std::lock_guard<std::mutex> guard(*c.lock);
+            return time_calls(repeats, [&] { (void)c.cleanup->cleanup(E, V); });
+          },
+          py::arg("V_edit"), py::arg("repeats") = 3);
+  py::reinterpret_borrow<py::class_<PySnap>>(m.attr("ConformalSnap"))
+      .def(
+          "_time_snap",
+          [](PySnap& p, py::object V_edit, int repeats) {
+            const Eigen::MatrixXd E = to_points(V_edit, "V_edit");
+            py::gil_scoped_release release;
+            std::lock_guard<std::mutex> guard(*p.lock);
+            p.snap->set_tradeoff(ConformalSnapOptions{}.tradeoff);
+            return time_calls(repeats, [&] { (void)p.snap->snap(E); });
+          },
+          py::arg("V_edit"), py::arg("repeats") = 3);
 
   // ---- SpinTransform -------------------------------------------------------------------------------
   {
@@ -242,23 +401,35 @@ Errors:  spinmotor.Error for a wrong size, a non-finite coordinate, tradeoff out
     py::class_<PySpin>(m, "SpinTransform", R"doc(
 Spin transformation (Crane, Pinkall, Schroeder 2011): bind once, solve per curvature change rho.
 
-SpinTransform(V, F, tolerance=1e-10, iterations=50, krylov=True)
+SpinTransform(V, F, tolerance=1e-10, iterations=50, krylov=True, problem="standard", scale="area",
+              ordering="metis")
   V (n, 3), F (m, 3): a connected oriented manifold, no degenerate faces or unreferenced vertices.
-Errors: spinmotor.Error naming the first offender.
+  tolerance, iterations: the inverse iteration's residual and cap; krylov: Rayleigh-Ritz on the
+  iterates; problem: standard (eq. 7), generalized (eq. 6) or unweighted; scale: output normalisation,
+  area (the input's area), unit (max |v| = 1) or none; ordering: fill-reducing ordering, natural, amd
+  or metis (the names of `spinmotor spin`, option_values("problem" / "scale" / "ordering")).
+Errors: spinmotor.Error naming the first offender or the bad option value (listing the valid ones).
 )doc")
-        .def(py::init([](py::object V, py::object F, double tolerance, int iterations, bool krylov) {
+        .def(py::init([](py::object V, py::object F, double tolerance, int iterations, bool krylov,
+                         const std::string& problem, const std::string& scale, const std::string& ordering) {
                const Mesh mesh = to_mesh(V, F);
                SpinTransformOptions o;
                o.tolerance = tolerance;
                o.iterations = iterations;
                o.krylov = krylov;
+               o.problem = parse_option<SpinEigenProblem>(problem, "problem: ");
+               o.scale = parse_option<SpinScale>(scale, "scale: ");
+               o.ordering = parse_option<VertexOrdering>(ordering, "ordering: ");
                PySpin p;
                py::gil_scoped_release release;
                p.st = std::make_unique<SpinTransform>(mesh, o);
                return p;
              }),
              py::arg("V"), py::arg("F"), py::arg("tolerance") = def.tolerance,
-             py::arg("iterations") = def.iterations, py::arg("krylov") = def.krylov)
+             py::arg("iterations") = def.iterations, py::arg("krylov") = def.krylov,
+             py::arg("problem") = std::string(option_name(def.problem)),
+             py::arg("scale") = std::string(option_name(def.scale)),
+             py::arg("ordering") = std::string(option_name(def.ordering)))
         .def(
             "solve",
             [](PySpin& p, py::object rho, bool full) -> py::object {

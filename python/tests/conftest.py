@@ -33,3 +33,12 @@ def meshes_dir():
     if not d or not os.path.isdir(d):
         pytest.skip("../shared/meshes not found (set SPINMOTOR_MESHES_DIR)")
     return d
+
+
+@pytest.fixture(scope="session")
+def rigs_dir(meshes_dir):
+    """../shared/rigs (next to the meshes folder); skipped when absent."""
+    d = os.path.join(os.path.dirname(os.path.abspath(meshes_dir)), "rigs")
+    if not os.path.isdir(d):
+        pytest.skip("../shared/rigs not found")
+    return d

@@ -68,6 +68,12 @@ def main(seed, count):
         lambda V, F: sm.Motor().apply(V),
         lambda V, F: sm.blend([sm.Motor()] * 2, V),
         lambda V, F: sm.SurfaceHarmonicDeformer(V0, F0, handles=[("a", V), ("b", [5])]),
+        lambda V, F: sm.ConformalSnap(V0, F0).snap(V, mode="shape", steps=1),
+        lambda V, F: sm.ConformalSnap(V0, F0).snap(V0 * 1.1, pins=np.ravel(F)),
+        lambda V, F: sm.SpinTransform(V, F, problem="generalized", scale="unit", ordering="amd"),
+        lambda V, F: sm.write_gltf_morph_animation(os.path.join(tmp, "a.glb"), V0, F0, [V], [0.0]),
+        lambda V, F: sm.write_gltf_morph_animation(os.path.join(tmp, "b.gltf"), V, F, np.stack([V0, V0]),
+                                                   np.ravel(F)[:2]),
     ]
     outcomes = {"ok": 0, "error": 0}
     for k in range(count):

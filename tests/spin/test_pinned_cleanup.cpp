@@ -27,6 +27,8 @@
 #include "spinmotor/spin/pinned_cleanup.hpp"
 
 using namespace spinmotor;
+using spinmotor::scene::RigCleanup;
+using spinmotor::scene::RigCleanupOptions;
 namespace fs = std::filesystem;
 
 namespace {

@@ -197,4 +197,23 @@ void write_gltf_morph_animation(const std::filesystem::path& path, const Mesh& r
                                 const std::string& name = "baked",
                                 const Eigen::Matrix4d& node_matrix = Eigen::Matrix4d::Identity());
 
+/// A baked morph-target animation read back (the output of write_gltf_morph_animation, or any glTF
+/// whose first mesh node has POSITION morph targets).
+struct GltfMorphAnimation {
+  Mesh mesh;  ///< the base surface, welded like read_gltf (UV/FUV per file vertex, v flipped)
+  std::vector<Eigen::MatrixXd> frames;  ///< per target: base + displacement (n×3, welded vertices)
+  std::vector<double> times;            ///< per target: its key time in the first `weights` animation
+  Eigen::Matrix4d node_matrix = Eigen::Matrix4d::Identity();  ///< the mesh node's global matrix
+  std::string name;                                           ///< the mesh's name
+};
+
+/// Reads the first node (lowest index) with a mesh whose primitives carry POSITION morph targets:
+/// primitives merged (TRIANGLES, POSITION float VEC3, the same number of targets, each with a float
+/// VEC3 POSITION), file vertices with equal base positions welded (a welded vertex takes the frame
+/// positions of its first file vertex). Target f's time is the first key of the first animation channel
+/// on the node's `weights` where target f's weight is the largest (a one-hot STEP animation as written
+/// above gives back its times); without such a channel, times are 0, 1, 2, ... The node matrix is the
+/// product of its ancestors' rest matrices and its own. Throws Error naming the file and the element.
+GltfMorphAnimation read_gltf_morph_animation(const std::filesystem::path& path);
+
 }  // namespace spinmotor

@@ -64,12 +64,18 @@ inline constexpr OptionNames<SnapMode, 4> kSnapModeNames{"snap mode",
                                                            {SnapMode::Pinned, "pinned"}}}};
 constexpr const auto& option_names(SnapMode) { return kSnapModeNames; }
 
-/// How the snapped mesh is placed onto the edit.
+/// How the snapped mesh is placed onto the edit (CLI `snap --align`, Python `alignment=`).
 enum class SnapAlignment {
   Similarity,   ///< best rotation + uniform scale + translation (Umeyama) onto V' (default)
   Translation,  ///< vertex means matched; rotation and scale are those of λ aligned with μ
   None,         ///< the reconstruction with λ aligned with μ, vertex mean at the rest mesh's
 };
+inline constexpr OptionNames<SnapAlignment, 3> kSnapAlignmentNames{
+    "snap alignment",
+    {{{SnapAlignment::Similarity, "similarity"},
+      {SnapAlignment::Translation, "translation"},
+      {SnapAlignment::None, "none"}}}};
+constexpr const auto& option_names(SnapAlignment) { return kSnapAlignmentNames; }
 
 struct ConformalSnapOptions {
   /// Standard (eq. 7, default) or Generalized (eq. 6, closed meshes only); see the header comment.

@@ -34,10 +34,16 @@
 #include <complex>
 #include <vector>
 
+#include "spinmotor/core/option_names.hpp"
+
 namespace spinmotor {
 
 /// Fill-reducing ordering of the vertex graph (CHOLMOD's AMD or METIS nested dissection), or none.
 enum class VertexOrdering { Natural, AMD, METIS };
+inline constexpr OptionNames<VertexOrdering, 3> kVertexOrderingNames{
+    "ordering",
+    {{{VertexOrdering::Natural, "natural"}, {VertexOrdering::AMD, "amd"}, {VertexOrdering::METIS, "metis"}}}};
+constexpr const auto& option_names(VertexOrdering) { return kVertexOrderingNames; }
 
 class DiracAssembly {
  public:

@@ -40,18 +40,30 @@
 #include <Eigen/Core>
 #include <memory>
 
+#include "spinmotor/core/option_names.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 #include "spinmotor/spin/dirac_assembly.hpp"
 
 namespace spinmotor {
 
+/// The eigenproblem (CLI `--problem`, Python `problem=`): Standard is eq. 7, Generalized eq. 6, Unweighted
+/// A*A λ = γ λ (the reference code's).
 enum class SpinEigenProblem { Standard, Generalized, Unweighted };
+inline constexpr OptionNames<SpinEigenProblem, 3> kSpinEigenProblemNames{
+    "problem",
+    {{{SpinEigenProblem::Standard, "standard"},
+      {SpinEigenProblem::Generalized, "generalized"},
+      {SpinEigenProblem::Unweighted, "unweighted"}}}};
+constexpr const auto& option_names(SpinEigenProblem) { return kSpinEigenProblemNames; }
 
 enum class SpinScale {
   KeepArea,     ///< scale to the input's total area, translate to the input's vertex mean (default)
   UnitMaxNorm,  ///< SpinXForm: centre the vertex mean at the origin, then max |v| = 1
   None,         ///< the Poisson solution translated to the input's vertex mean
 };
+inline constexpr OptionNames<SpinScale, 3> kSpinScaleNames{
+    "scale", {{{SpinScale::KeepArea, "area"}, {SpinScale::UnitMaxNorm, "unit"}, {SpinScale::None, "none"}}}};
+constexpr const auto& option_names(SpinScale) { return kSpinScaleNames; }
 
 /// Prescribed target tangents at boundary vertices (§5.7).
 struct SpinBoundaryTangents {
