@@ -62,6 +62,10 @@ RunResult run_scene(const Scene& scene, const RunProgress& progress) {
       for (Eigen::Index k = 0; k < scene.handles[h].vertices.size(); ++k)
         pins.push_back(scene.handles[h].vertices[k]);
     try {
+      if (scene.snap.pin_weights) {  // the skin's rigid parts (scene.cpp checked the deformer is a skin)
+        if (!d->skin()) throw Error("\"pins\": \"weights\" needs a skin deformer");
+        pins = skin_pins(scene.mesh, *d->skin(), scene.snap.pin_threshold, scene.snap.pin_margin);
+      }
       PinnedCleanupOptions o;
       o.keep = scene.snap.keep;
       o.max_iterations = scene.snap.iterations;
@@ -100,7 +104,8 @@ RunResult run_scene(const Scene& scene, const RunProgress& progress) {
               {"q_mean", detail::finite_or_null(m.q_mean)},
               {"q_max", detail::finite_or_null(m.q_max)},
               {"area_distortion", detail::finite_or_null(m.area_distortion)}};
-    if (scene.animated) j["frame"] = f;
+    if (scene.animated) j["frame"] = scene.first_frame + static_cast<int>(f);
+    if (scene.frames[f].time) j["time"] = *scene.frames[f].time;
     const json extra = d->report(scene.frames[f], fr.V);  // named: items() of a temporary would dangle
     for (const auto& [k, v] : extra.items()) j[k] = v;
     for (const auto& [k, v] : bind_extra.items()) j[k] = v;
@@ -209,7 +214,7 @@ std::filesystem::path output_path(const Scene& scene, const std::filesystem::pat
   std::filesystem::path p = spec;
   if (scene.animated) {
     char num[16];
-    std::snprintf(num, sizeof num, ".%04d", frame);
+    std::snprintf(num, sizeof num, ".%04d", scene.first_frame + frame);
     p.replace_filename(spec.stem().string() + num + spec.extension().string());
   }
   if (p.is_relative()) p = (out_dir ? *out_dir : scene.dir) / p;
