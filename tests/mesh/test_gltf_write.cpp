@@ -1,6 +1,7 @@
 // The procedural limb rig (mesh/procedural_rig.hpp) and the skinned glTF writer
 // (mesh/gltf_rig_writer.hpp): closed-form skinning of the limb, and write -> read_gltf round trips
 // (.gltf and .glb; CesiumMan with ../shared/rigs).
+#include <tiny_gltf.h>
 #include <unistd.h>
 
 #include <Eigen/Geometry>
@@ -9,10 +10,12 @@
 #include <filesystem>
 #include <numbers>
 
+#include "cli_support.hpp"
 #include "shared_data.hpp"
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/gltf.hpp"
 #include "spinmotor/mesh/gltf_rig_writer.hpp"
+#include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/procedural_rig.hpp"
 #include "spinmotor/mesh/validate.hpp"
 
@@ -222,4 +225,64 @@ TEST_CASE("write_gltf_rig: bad input throws naming the problem and writes nothin
   bad = rig;
   bad.nodes[0].parent = 1;  // joint0 <-> joint1
   expect(s.dir / "c.glb", bad, "cycle");
+}
+
+TEST_CASE(
+    "spinmotor rig pose --frames A:B --fps F: frame k at time k / F, numbered k; --frames N still works") {
+  spinmotor_test::TempDir tmp;
+  const GltfRig rig = spinmotor::limb_rig({.rings = 24, .sides = 12, .joints = 3});
+  spinmotor::write_gltf_rig(tmp.path / "limb.glb", rig);
+  const GltfRig back = spinmotor::read_gltf(tmp.path / "limb.glb");
+  auto r = spinmotor_test::run_cli(tmp.path, "rig pose " + tmp.file("limb.glb") +
+                                                 " --frames 3:6 --fps 4 --blend lbs --out " +
+                                                 tmp.file("out/f.obj"));
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(std::distance(fs::directory_iterator(tmp.path / "out"), fs::directory_iterator{}) == 4);
+  for (int k = 3; k <= 6; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "f.%04d.obj", k);
+    INFO(name);
+    REQUIRE(fs::exists(tmp.path / "out" / name));
+    const spinmotor::Mesh m = spinmotor::read_mesh(tmp.path / "out" / name);
+    CHECK(max_diff(m.V, spinmotor::skin_positions(back, 0, k / 4.0)) <= 2e-6);
+  }
+  // By name, baked: the weights animation's key times are the frame times (float32).
+  r = spinmotor_test::run_cli(tmp.path, "rig pose " + tmp.file("limb.glb") +
+                                            " --animation twist --frames 10:13 --fps 24 --out " +
+                                            tmp.file("b.gltf"));
+  REQUIRE(r.code == 0);
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string err, warn;
+  REQUIRE(loader.LoadASCIIFromFile(&model, &err, &warn, (tmp.path / "b.gltf").string()));
+  REQUIRE(model.animations.size() == 1);
+  const tinygltf::Accessor& in = model.accessors[model.animations[0].samplers[0].input];
+  REQUIRE(in.count == 4);
+  const tinygltf::BufferView& bv = model.bufferViews[in.bufferView];
+  const float* t =
+      reinterpret_cast<const float*>(model.buffers[bv.buffer].data.data() + bv.byteOffset + in.byteOffset);
+  for (int k = 0; k < 4; ++k) CHECK(t[k] == static_cast<float>((10 + k) / 24.0));
+  // --frames N keeps its meaning: N frames evenly over [0, 2], numbered from 0.
+  r = spinmotor_test::run_cli(
+      tmp.path, "rig pose " + tmp.file("limb.glb") + " --frames 3 --blend lbs --out " + tmp.file("n/g.obj"));
+  REQUIRE(r.code == 0);
+  CHECK(max_diff(spinmotor::read_mesh(tmp.path / "n" / "g.0001.obj").V,
+                 spinmotor::skin_positions(back, 0, 1.0)) <= 2e-6);
+  CHECK(fs::exists(tmp.path / "n" / "g.0002.obj"));
+  // Bad ranges: exit 2, nothing written.
+  for (const std::string args :
+       {"--frames 6:3 --fps 4", "--frames 3:6", "--frames 3 --fps 4", "--frames 3:6 --fps 0",
+        "--frames a:b --fps 4", "--frames 3:6 --fps 4 --animation wave", "--frames 3:6 --fps 4 --animation 2",
+        "--frames -1:3 --fps 4"}) {
+    INFO(args);
+    r = spinmotor_test::run_cli(
+        tmp.path, "rig pose " + tmp.file("limb.glb") + " " + args + " --out " + tmp.file("bad/f.obj"));
+    CHECK(r.code == 2);
+    CHECK_FALSE(fs::exists(tmp.path / "bad"));
+  }
+  r = spinmotor_test::run_cli(tmp.path, "rig pose " + tmp.file("limb.glb") +
+                                            " --frames 1:2 --fps 4 --animation wave --out " +
+                                            tmp.file("bad/f.obj"));
+  CHECK_THAT(r.err, Catch::Contains("no animation named 'wave' (the file has 'bend', 'twist')"));
 }
