@@ -1,13 +1,17 @@
 // The procedural limb rig (mesh/procedural_rig.hpp) and the skinned glTF writer
 // (mesh/gltf_rig_writer.hpp): closed-form skinning of the limb, and write -> read_gltf round trips
-// (.gltf and .glb; CesiumMan with ../shared/rigs).
+// (.gltf and .glb; CesiumMan with ../shared/rigs), and the files read independently by Debian's assimp
+// (assimp-utils' `assimp` command: counts, and the positions it exports).
 #include <tiny_gltf.h>
 #include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <numbers>
 
 #include "cli_support.hpp"
@@ -285,4 +289,79 @@ TEST_CASE(
                                             " --frames 1:2 --fps 4 --animation wave --out " +
                                             tmp.file("bad/f.obj"));
   CHECK_THAT(r.err, Catch::Contains("no animation named 'wave' (the file has 'bend', 'twist')"));
+}
+
+namespace {
+
+/// `assimp info FILE`: the "Name: value" statistics it prints (e.g. "Vertices" -> 1648).
+std::map<std::string, std::string> assimp_info(const fs::path& file) {
+  std::map<std::string, std::string> out;
+  const std::string cmd = "assimp info '" + file.string() + "' 2>/dev/null";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  REQUIRE(pipe != nullptr);
+  char line[512];
+  while (std::fgets(line, sizeof line, pipe)) {
+    const std::string l(line);
+    const auto colon = l.find(':');
+    if (colon == std::string::npos || l.empty() || l[0] == ' ') continue;
+    std::string value = l.substr(colon + 1);
+    value.erase(0, value.find_first_not_of(" \t"));
+    while (!value.empty() && (value.back() == '\n' || value.back() == ' ')) value.pop_back();
+    out.emplace(l.substr(0, colon), value);  // the first one: "Meshes:" also heads the mesh list
+  }
+  REQUIRE(pclose(pipe) == 0);
+  return out;
+}
+
+/// Largest distance from a vertex of `a` to the nearest vertex of `b` (brute force).
+double nearest_max(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  double worst = 0;
+  for (Eigen::Index i = 0; i < a.rows(); ++i)
+    worst = std::max(worst, std::sqrt((b.rowwise() - a.row(i)).rowwise().squaredNorm().minCoeff()));
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("assimp reads the skinned and the baked glb: counts, bones, animations, positions") {
+  if (std::system("command -v assimp > /dev/null 2>&1") != 0) {
+    WARN("assimp (assimp-utils) not found: skipping the independent glTF validation");
+    return;
+  }
+  Scratch s;
+  const GltfRig rig = spinmotor::limb_rig({.rings = 24, .sides = 12, .joints = 3});
+  const fs::path skinned = s.dir / "limb.glb";
+  spinmotor::write_gltf_rig(skinned, rig);
+  const GltfRig back = spinmotor::read_gltf(skinned);
+  auto info = assimp_info(skinned);
+  CHECK(info["Meshes"] == "1");
+  CHECK(info["Vertices"] == std::to_string(back.file_vertices));  // glTF vertices (split at the UV seam)
+  CHECK(info["Faces"] == std::to_string(rig.mesh.F.rows()));
+  CHECK(info["Bones"] == "3");
+  CHECK(info["Animations"] == "2");
+  CHECK(info["Animation Channels"] == "3");  // bend: joints 1 and 2; twist: joint 2
+  // assimp's OBJ export of the bind pose: the same surface (it welds equal positions as we do).
+  const fs::path obj = s.dir / "limb-assimp.obj";
+  REQUIRE(std::system(
+              ("assimp export '" + skinned.string() + "' '" + obj.string() + "' > /dev/null 2>&1").c_str()) ==
+          0);
+  const spinmotor::Mesh m = spinmotor::read_mesh(obj);
+  CHECK(m.F.rows() == rig.mesh.F.rows());
+  CHECK(nearest_max(m.V, rig.mesh.V) <= 1e-6);
+  CHECK(nearest_max(rig.mesh.V, m.V) <= 1e-6);
+
+  // The baked morph animation of 4 frames.
+  std::vector<Eigen::MatrixXd> frames;
+  std::vector<double> times;
+  for (int f = 0; f < 4; ++f) {
+    times.push_back(0.5 * f);
+    frames.push_back(spinmotor::skin_positions(back, 1, times.back()));
+  }
+  const fs::path baked = s.dir / "baked.glb";
+  spinmotor::write_gltf_morph_animation(baked, back.mesh, frames, times, "baked");
+  info = assimp_info(baked);
+  CHECK(info["Meshes"] == "1");
+  CHECK(info["Faces"] == std::to_string(back.mesh.F.rows()));
+  CHECK(info["Animations"] == "1");
+  CHECK(info["Bones"] == "0");
 }
