@@ -43,6 +43,7 @@ void write_gltf_rig(const std::filesystem::path& path, const GltfRig& rig) {
     throw fail("mesh node " + std::to_string(rig.mesh_node) + " is not one of the " + std::to_string(N) +
                " nodes");
   if (J == 0) throw fail("the rig has no joints");
+  if (J > 65535) throw fail(std::to_string(J) + " joints: JOINTS_n (unsigned short) holds at most 65535");
   if (static_cast<int>(rig.inverse_bind.size()) != J)
     throw fail(std::to_string(rig.inverse_bind.size()) + " inverse bind matrices for " + std::to_string(J) +
                " joints");
