@@ -347,7 +347,7 @@ TEST_CASE("scene snap mode pinned: the handles stay where the deformer put them,
   const Scene one = parse_scene(doc, kScenes, "one.json");
   CHECK(one.snap.pin_handles == std::vector<int>{0});
   CHECK(one.snap.iterations == 5);
-  CHECK(one.snap.pose_weight == 0);
+  CHECK(!one.snap.pose_weight);
 
   // "pose_weight": the pose attraction holds the free region nearer the deformer's result.
   doc["snap"] = {{"pins", "handles"}, {"pose_weight", 10}};
