@@ -309,6 +309,7 @@ void stage_rig(Demo& d) {
   skin.pose(frames, skinned.V);
   const double skin_pose_ms = ms_since(t0);
   const DeformationMetrics km = compute_metrics(arm, skinned.V);
+  write_mesh(d.out_dir / "arm.obj", arm);  // the rest arm (Q pictures: scripts/make-gallery)
   write_mesh(d.out_dir / "arm-lbs.obj", skinned);
   t0 = std::chrono::steady_clock::now();
   const ConformalSnapResult ks = conformal_snap(arm, skinned.V);
@@ -386,17 +387,16 @@ void stage_gltf_rig(Demo& d) {
   d.row("rig pose (LBS, twist 120 deg)", lbs, lbs_ms, ml.q_mean, ml.q_max, "limb-lbs.obj");
   d.row("rig pose (DLB, twist 120 deg)", dlb, std::nan(""), md.q_mean, md.q_max, "limb-dlb.obj");
 
-  // The pose-keeping cleanup of the LBS frame: the rigid parts of the skin pinned.
+  // The pose-keeping cleanup of the LBS frame with the rig defaults (scene/rig_cleanup.hpp): the rigid
+  // parts of the skin pinned, the rest held near the pose by the weights' attraction.
   const RigSkin skin = rig_skin(rig);
-  const Eigen::MatrixXd W(skin.weights);
   t0 = std::chrono::steady_clock::now();
-  const Eigen::VectorXi pins =
-      pins_from_weights(rig.mesh.V, W, 0.999, default_pin_margins(rig.mesh.V, W, skin.bones, 0.999));
-  PinnedCleanup cleanup = PinnedCleanup::bind(rig.mesh, pins);
+  scene::RigCleanup cleanup = scene::RigCleanup::bind(rig.mesh, skin.weights, skin.bones);
+  const Eigen::VectorXi& pins = cleanup.pins;
   const double bind_ms = ms_since(t0);
   Mesh cleaned = rig.mesh;
   t0 = std::chrono::steady_clock::now();
-  const PinnedCleanupResult r = cleanup.cleanup(lbs.V, cleaned.V);
+  const PinnedCleanupResult r = cleanup(lbs.V, cleaned.V);
   const double clean_ms = ms_since(t0);
   const DeformationMetrics mc = compute_metrics(rig.mesh, cleaned.V);
   write_mesh(d.out_dir / "limb-lbs-cleaned.obj", cleaned);
@@ -413,7 +413,7 @@ void stage_gltf_rig(Demo& d) {
   for (int f = 0; f < n; ++f) {
     times[f] = gltf_frame_time(rig.animations[twist], f, n);
     skin_lbs.pose(rig_pose_motors(rig, twist, times[f]), V);
-    (void)cleanup.cleanup(V, frames[f]);
+    (void)cleanup(V, frames[f]);
   }
   write_gltf_morph_animation(d.out_dir / "limb-baked.glb", rig.mesh, frames, times, "limb-cleaned");
   const double bake_ms = ms_since(t0);

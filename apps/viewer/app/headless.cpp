@@ -130,7 +130,8 @@ int run_headless(const Args& a) {
       const std::vector<int> pins = s.cleanup_pins();
       if (pins.empty())
         throw Error("--keep-pose: nothing to pin (no handle, and the deformer is not a skin)");
-      worker.request_pinned(V, pins);
+      Session::CleanupAttraction at = s.cleanup_attraction();
+      worker.request_pinned(V, pins, at.pose_weight, std::move(at.weights));
     } else
       worker.request(V, a.tradeoff);
     worker.wait_idle(600);
@@ -197,14 +198,18 @@ int run_headless(const Args& a) {
       const auto [t0, t1] = s.animation_range();
       std::unique_ptr<SnapWorker> cleaner;
       std::vector<int> pins;
-      if (a.snap && a.keep_pose) cleaner = std::make_unique<SnapWorker>(s.rest()), pins = s.cleanup_pins();
+      Session::CleanupAttraction attraction;
+      if (a.snap && a.keep_pose)
+        cleaner = std::make_unique<SnapWorker>(s.rest()), pins = s.cleanup_pins(),
+        attraction = s.cleanup_attraction();
       std::vector<double> pose_ms, draw_ms;
       int requested = 0;
       for (int f = 0; f < a.frames; ++f) {
         s.set_time(a.frames > 1 ? t0 + (t1 - t0) * f / (a.frames - 1) : t0);
         const Eigen::MatrixXd& Vf = s.posed();
         pose_ms.push_back(s.pose_ms());
-        if (cleaner) cleaner->request_pinned(Vf, pins), ++requested;
+        if (cleaner)
+          cleaner->request_pinned(Vf, pins, attraction.pose_weight, attraction.weights), ++requested;
         const auto t2 = Clock::now();
         renderer.set_positions(Vf);
         renderer.draw(cam, o.width, o.height, o.style);

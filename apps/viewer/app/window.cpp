@@ -186,8 +186,10 @@ struct Viewer {
       }
     if (pins.empty())
       snapper->request(session.posed(), tradeoff);
-    else
-      snapper->request_pinned(session.posed(), std::move(pins));
+    else {
+      Session::CleanupAttraction a = session.cleanup_attraction();
+      snapper->request_pinned(session.posed(), std::move(pins), a.pose_weight, std::move(a.weights));
+    }
   }
 
   void request_paint() {

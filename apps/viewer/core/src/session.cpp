@@ -9,7 +9,9 @@
 #include "spinmotor/core/atomic_file.hpp"
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/core/stopwatch.hpp"
+#include "spinmotor/deform/rig_pins.hpp"
 #include "spinmotor/mesh/io.hpp"
+#include "spinmotor/scene/rig_cleanup.hpp"
 
 namespace spinmotor::viewer {
 namespace {
@@ -221,6 +223,13 @@ std::vector<int> Session::cleanup_pins() {
   if (!skin) return {};
   if (!cleanup_pins_) cleanup_pins_ = scene::skin_pins(scene_->mesh, *skin, 0.999, -1.0);
   return *cleanup_pins_;
+}
+
+Session::CleanupAttraction Session::cleanup_attraction() {
+  if (!scene_->handles.empty()) return {};
+  const scene::SkinBinding* skin = deformer_ ? deformer_->skin() : nullptr;
+  if (!skin) return {};
+  return {scene::RigCleanupOptions{}.pose_weight, pin_attraction_from_weights(skin->weights)};
 }
 
 ga::Mot Session::drag_start_motor(const std::string& name) const {

@@ -118,6 +118,14 @@ class Session {
   /// scene without handles the skin's rigid parts (scene::skin_pins, default threshold and margins).
   /// Empty when neither applies.
   std::vector<int> cleanup_pins();
+  /// The pose attraction that goes with cleanup_pins(): for a skin scene without handles the rig
+  /// defaults (scene/rig_cleanup.hpp: γ = RigCleanupOptions::pose_weight, weights from the skin),
+  /// else none (γ = 0: the handles alone).
+  struct CleanupAttraction {
+    double pose_weight = 0;
+    Eigen::VectorXd weights;  ///< per vertex, empty when pose_weight = 0
+  };
+  CleanupAttraction cleanup_attraction();
   /// The motor a gizmo drag of `name` starts from: its pose entry, or for a skin bone without one the
   /// motion it inherits from its nearest posed ancestor (what pose() applies to it).
   ga::Mot drag_start_motor(const std::string& name) const;

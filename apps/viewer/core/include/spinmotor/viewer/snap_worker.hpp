@@ -29,9 +29,11 @@ struct SnapOutcome {
 };
 
 struct SnapJob {
-  Eigen::MatrixXd V_edit;  ///< n×3
-  double tradeoff = 1.0;   ///< ∈ [0, 1] (free snap)
-  std::vector<int> pins;   ///< non-empty: the pose-keeping cleanup with these vertices pinned
+  Eigen::MatrixXd V_edit;      ///< n×3
+  double tradeoff = 1.0;       ///< ∈ [0, 1] (free snap)
+  std::vector<int> pins;       ///< non-empty: the pose-keeping cleanup with these vertices pinned
+  double pose_weight = 0;      ///< pinned: γ of the pose attraction (PinnedCleanupOptions)
+  Eigen::VectorXd attraction;  ///< pinned: per-vertex attraction weights (empty: all 1)
 };
 
 class SnapWorker : public LatestJobWorker<SnapJob, SnapOutcome> {
@@ -42,9 +44,12 @@ class SnapWorker : public LatestJobWorker<SnapJob, SnapOutcome> {
   std::uint64_t request(Eigen::MatrixXd V_edit, double tradeoff) {
     return request(SnapJob{std::move(V_edit), tradeoff, {}});
   }
-  /// Queues the pose-keeping cleanup of V_edit with `pins` kept in place.
-  std::uint64_t request_pinned(Eigen::MatrixXd V_edit, std::vector<int> pins) {
-    return request(SnapJob{std::move(V_edit), 1.0, std::move(pins)});
+  /// Queues the pose-keeping cleanup of V_edit with `pins` kept in place and the free vertices held
+  /// near V_edit by the pose attraction (pose_weight γ, per-vertex `attraction`; spin/pinned_cleanup.hpp).
+  /// The worker rebinds when the pins or the attraction change.
+  std::uint64_t request_pinned(Eigen::MatrixXd V_edit, std::vector<int> pins, double pose_weight = 0,
+                               Eigen::VectorXd attraction = {}) {
+    return request(SnapJob{std::move(V_edit), 1.0, std::move(pins), pose_weight, std::move(attraction)});
   }
 };
 
