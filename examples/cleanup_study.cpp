@@ -109,6 +109,15 @@ struct ArmCase {
   double bend, twist;
 };
 
+/// γ of the pose attraction rows (--pose-weight; 0 = none).
+double g_pose_weight = 0;
+
+std::string attraction_label() {
+  char b[96];
+  std::snprintf(b, sizeof b, "pose-keeping cleanup of LBS + attraction (γ = %g)", g_pose_weight);
+  return b;
+}
+
 void arm_study(bool small, std::vector<Row>& rows) {
   const Mesh arm = capsule(1.0, 6.0, small ? 47 : 93, small ? 32 : 64);
   const Eigen::Index n = arm.V.rows();
@@ -128,6 +137,10 @@ void arm_study(bool small, std::vector<Row>& rows) {
       DirectDeltaMushDeformer::bind(arm, bones, W, DirectDeltaMushDeformer::Options{});
   ConformalSnap snap(arm);
   PinnedCleanup cleanup = PinnedCleanup::bind(arm, pins);
+  const Eigen::VectorXd attraction = pin_attraction_from_weights(W);
+  PinnedCleanupOptions ao;
+  ao.pose_weight = g_pose_weight;
+  PinnedCleanup attracted = PinnedCleanup::bind(arm, pins, ao, attraction);
   const Vector3d elbow(0, 0, 3);
   for (const ArmCase& c :
        {ArmCase{"arm bend 90", 90, 0}, ArmCase{"arm bend 120", 120, 0}, ArmCase{"arm twist 90", 0, 90},
@@ -152,6 +165,10 @@ void arm_study(bool small, std::vector<Row>& rows) {
     }
     ms = time_ms([&] { (void)cleanup.cleanup(V_lbs, V); });
     rows.push_back(measure(c.name, "pose-keeping cleanup of LBS", arm, V, V_lbs, pins, ms));
+    if (g_pose_weight > 0) {
+      ms = time_ms([&] { (void)attracted.cleanup(V_lbs, V); });
+      rows.push_back(measure(c.name, attraction_label(), arm, V, V_lbs, pins, ms));
+    }
   }
 }
 
@@ -200,6 +217,9 @@ void rig_study(const std::filesystem::path& dir, const std::filesystem::path& ou
     const Eigen::VectorXi pins95 =
         pins_from_weights(rest.V, W, 0.95, default_pin_margins(rest.V, W, skin.bones, 0.95));
     PinnedCleanup cleanup95 = PinnedCleanup::bind(rest, pins95);
+    PinnedCleanupOptions ao;
+    ao.pose_weight = g_pose_weight;
+    PinnedCleanup attracted = PinnedCleanup::bind(rest, pins, ao, pin_attraction_from_weights(W));
     const GltfAnimation& anim = rig.animations.at(0);
     for (double frac : {0.25, 0.5, 0.75}) {
       const double t = anim.start + frac * anim.duration();
@@ -234,6 +254,11 @@ void rig_study(const std::filesystem::path& dir, const std::filesystem::path& ou
           measure(edit, "pose-keeping cleanup of LBS, " + std::to_string(pins95.size()) + " pins (w ≥ 0.95)",
                   rest, V, V_lbs, pins95, ms));
       save("cleaned95", V);
+      if (g_pose_weight > 0) {
+        ms = time_ms([&] { (void)attracted.cleanup(V_lbs, V); });
+        rows.push_back(measure(edit, attraction_label(), rest, V, V_lbs, pins, ms));
+        save("attracted", V);
+      }
       if (frac == 0.25) write_mesh(out / (std::filesystem::path(file).stem().string() + "-rest.obj"), rest);
     }
   }
@@ -249,6 +274,8 @@ int run(int argc, char** argv) {
   app.add_flag("--check", check, "assert the cleanup's figures; exit 1 if one fails");
   std::string rigs;
   app.add_option("--rigs", rigs, "folder with CesiumMan.gltf and RiggedFigure.gltf (the Cesium samples)");
+  app.add_option("--pose-weight", g_pose_weight,
+                 "γ of the cleanup's pose attraction (pin_attraction_from_weights) for extra rows; 0 = none");
   CLI11_PARSE(app, argc, argv);
 
   std::vector<Row> rows;

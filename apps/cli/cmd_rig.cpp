@@ -15,6 +15,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "command.hpp"
 #include "spinmotor/core/error.hpp"
@@ -39,7 +40,7 @@ struct RigArgs {
   std::string blend = "lbs";
   std::string out;
   std::string cleanup = "none";
-  double pin_threshold = 0.999, pin_margin = -1;  // --cleanup pinned; margin < 0: the default
+  spinmotor::RigCleanupOptions rig_cleanup;  // --cleanup pinned (defaults: scene/rig_cleanup.hpp)
   std::string space = "mesh";
 };
 
@@ -150,19 +151,25 @@ void run_pose(const RigArgs& a) {
   spinmotor::scene::RigPoseOptions po;
   po.animation = a.animation;
   po.blend = blend;
-  po.cleanup = spinmotor::parse_option<spinmotor::scene::RigCleanup>(a.cleanup, "rig pose: --cleanup: ");
-  po.pin_threshold = a.pin_threshold;
-  po.pin_margin = a.pin_margin;
+  po.cleanup = spinmotor::parse_option<spinmotor::scene::RigCleanupMode>(a.cleanup, "rig pose: --cleanup: ");
+  po.cleanup_options = a.rig_cleanup;
   po.space = spinmotor::parse_option<spinmotor::scene::RigSpace>(a.space, "rig pose: --space: ");
-  spinmotor::scene::RigPoser poser(rig, po);  // scene/rig_pose.hpp: skin, cleanup, placement
-  if (poser.pins().size() > 0)
-    std::cerr << "rig pose: cleanup pinned: " << poser.pins().size() << " of " << rig.mesh.V.rows()
-              << " vertices pinned (largest margin " << poser.pin_margins().maxCoeff() << ")\n";
-  auto pose_frame = [&](int f) { return poser.pose(times[f]); };
+  std::optional<spinmotor::scene::RigPoser> poser;  // scene/rig_pose.hpp: skin, cleanup, placement
+  try {
+    poser.emplace(rig, po);
+  } catch (const Error& e) {
+    if (po.cleanup == spinmotor::scene::RigCleanupMode::None) throw;
+    throw Error(std::string("rig pose: --cleanup pinned: ") + e.what(), e.kind());
+  }
+  if (poser->pins().size() > 0)
+    std::cerr << "rig pose: cleanup pinned: " << poser->pins().size() << " of " << rig.mesh.V.rows()
+              << " vertices pinned (largest margin " << poser->pin_margins().maxCoeff() << "), pose weight "
+              << po.cleanup_options.pose_weight << "\n";
+  auto pose_frame = [&](int f) { return poser->pose(times[f]); };
 
   std::vector<fs::path> written;
   if (gltf_out) {
-    spinmotor::scene::bake_rig_gltf(out, poser, times, out.stem().string());
+    spinmotor::scene::bake_rig_gltf(out, *poser, times, out.stem().string());
     written.push_back(out);
   } else if (by_time) {
     spinmotor::Mesh m = rig.mesh;
@@ -246,14 +253,19 @@ const spinmotor::cli::RegisterCommand reg{
               "--cleanup", a->cleanup,
               "Post-skinning cleanup of each frame: none, or pinned (the pose-keeping conformal cleanup "
               "with the bones' rigid parts pinned)")
-          ->check(CLI::IsMember(spinmotor::option_values<spinmotor::scene::RigCleanup>()));
-      pose->add_option("--pin-threshold", a->pin_threshold,
+          ->check(CLI::IsMember(spinmotor::option_values<spinmotor::scene::RigCleanupMode>()));
+      pose->add_option("--pin-threshold", a->rig_cleanup.pin_threshold,
                        "--cleanup pinned: a vertex is rigid when one joint's weight is at least this")
           ->check(CLI::Range(0.5, 1.0))
           ->capture_default_str();
-      pose->add_option("--pin-margin", a->pin_margin,
+      pose->add_option("--pin-margin", a->rig_cleanup.pin_margin,
                        "--cleanup pinned: rigid vertices closer than this to a blended one are left free "
                        "(default, per bone: a quarter of the widest blend band of its joints)");
+      pose->add_option("--pose-weight", a->rig_cleanup.pose_weight,
+                       "--cleanup pinned: γ ≥ 0 of the attraction that holds the soft parts near the skinned "
+                       "pose (1 on rigid parts, 0 mid-joint; 0 = pins only)")
+          ->check(CLI::NonNegativeNumber)
+          ->capture_default_str();
       pose->callback([a] { run_pose(*a); });
       const std::string examples =
           "Examples:\n"

@@ -244,4 +244,19 @@ Eigen::VectorXd default_pin_margins(const Eigen::MatrixXd& V, const Eigen::Matri
   return m;
 }
 
+Eigen::VectorXd pin_attraction_from_weights(const Eigen::MatrixXd& W, double threshold, double low) {
+  check_inputs(Eigen::MatrixXd::Zero(W.rows(), 3), W, threshold, "pin_attraction_from_weights");
+  if (!(low >= 0 && low < threshold)) {
+    std::ostringstream s;
+    s << "pin_attraction_from_weights: low " << low << " must be in [0, threshold = " << threshold << ")";
+    throw Error(s.str());
+  }
+  Eigen::VectorXd a(W.rows());
+  for (Eigen::Index i = 0; i < W.rows(); ++i) {
+    const double t = std::clamp((row_top(W, i).dominant - low) / (threshold - low), 0.0, 1.0);
+    a[i] = t * t * (3 - 2 * t);
+  }
+  return a;
+}
+
 }  // namespace spinmotor

@@ -34,14 +34,14 @@ const std::vector<std::pair<const char*, Values>>& option_tables() {
       {"coordinates", option_values<CageDeformer::Coordinates>},
       {"energy", option_values<ArapEnergy>},
       {"initial", option_values<ArapInitial>},
-      {"snap-mode", option_values<SnapMode>},            // ConformalSnap.snap(mode=)
-      {"snap-alignment", option_values<SnapAlignment>},  // ConformalSnap(alignment=)
-      {"problem", option_values<SpinEigenProblem>},      // ConformalSnap / SpinTransform problem=
-      {"scale", option_values<SpinScale>},               // SpinTransform(scale=)
-      {"ordering", option_values<VertexOrdering>},       // SpinTransform(ordering=)
-      {"keep", option_values<CleanupKeep>},              // PinnedCleanup, ConformalSnap.snap(keep=)
-      {"cleanup", option_values<scene::RigCleanup>},     // Rig.poser / Rig.bake cleanup=
-      {"space", option_values<scene::RigSpace>},         // Rig.poser / Rig.bake space=
+      {"snap-mode", option_values<SnapMode>},             // ConformalSnap.snap(mode=)
+      {"snap-alignment", option_values<SnapAlignment>},   // ConformalSnap(alignment=)
+      {"problem", option_values<SpinEigenProblem>},       // ConformalSnap / SpinTransform problem=
+      {"scale", option_values<SpinScale>},                // SpinTransform(scale=)
+      {"ordering", option_values<VertexOrdering>},        // SpinTransform(ordering=)
+      {"keep", option_values<CleanupKeep>},               // PinnedCleanup, ConformalSnap.snap(keep=)
+      {"cleanup", option_values<scene::RigCleanupMode>},  // Rig.poser / Rig.bake cleanup=
+      {"space", option_values<scene::RigSpace>},          // Rig.poser / Rig.bake space=
   };
   return t;
 }

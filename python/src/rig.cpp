@@ -27,13 +27,15 @@ struct PyRigPoser {
 };
 
 scene::RigPoseOptions pose_options(int animation, const std::string& blend, const std::string& cleanup,
-                                   double pin_threshold, double pin_margin, const std::string& space) {
+                                   double pin_threshold, double pin_margin, double pose_weight,
+                                   const std::string& space) {
   scene::RigPoseOptions o;
   o.animation = animation;
   o.blend = parse_option<SkinBlend>(blend, "blend: ");
-  o.cleanup = parse_option<scene::RigCleanup>(cleanup, "cleanup: ");
-  o.pin_threshold = pin_threshold;
-  o.pin_margin = pin_margin;
+  o.cleanup = parse_option<scene::RigCleanupMode>(cleanup, "cleanup: ");
+  o.cleanup_options.pin_threshold = pin_threshold;
+  o.cleanup_options.pin_margin = pin_margin;
+  o.cleanup_options.pose_weight = pose_weight;
   o.space = parse_option<scene::RigSpace>(space, "space: ");
   return o;
 }
@@ -177,34 +179,39 @@ Errors: spinmotor.Error for an animation out of range or a non-finite t.
       .def(
           "poser",
           [](const PyRig& r, int animation, const std::string& blend, const std::string& cleanup,
-             double pin_threshold, double pin_margin, const std::string& space) {
-            return make_poser(r, pose_options(animation, blend, cleanup, pin_threshold, pin_margin, space));
+             double pin_threshold, double pin_margin, double pose_weight, const std::string& space) {
+            return make_poser(
+                r, pose_options(animation, blend, cleanup, pin_threshold, pin_margin, pose_weight, space));
           },
           py::arg("animation") = 0, py::arg("blend") = "lbs", py::arg("cleanup") = "none",
-          py::arg("pin_threshold") = scene::RigPoseOptions{}.pin_threshold,
-          py::arg("pin_margin") = scene::RigPoseOptions{}.pin_margin, py::arg("space") = "mesh", R"doc(
-poser(animation=0, blend="lbs", cleanup="none", pin_threshold=0.999, pin_margin=-1, space="mesh")
+          py::arg("pin_threshold") = RigCleanupOptions{}.pin_threshold,
+          py::arg("pin_margin") = RigCleanupOptions{}.pin_margin,
+          py::arg("pose_weight") = RigCleanupOptions{}.pose_weight, py::arg("space") = "mesh", R"doc(
+poser(animation=0, blend="lbs", cleanup="none", pin_threshold=0.999, pin_margin=-1, pose_weight=10,
+      space="mesh")
   -> RigPoser: the skin (and, with cleanup="pinned", the pose-keeping cleanup) bound once
   (scene/rig_pose.hpp, as `spinmotor rig pose`), posed per time with RigPoser.pose(t).
 
 Inputs:  animation: index into animations, -1 the rest pose; blend: lbs, dlb, log or pivot-log;
-         cleanup: none or pinned (the vertices of one joint with weight >= pin_threshold, farther
-         than pin_margin from any blended vertex, stay put; pin_margin < 0: per bone, a quarter of
-         the widest blend band of its joints); space: mesh (the file's POSITION frame) or scene (the
-         mesh node's global matrix applied).
+         cleanup: none or pinned (scene/rig_cleanup.hpp, as `rig pose --cleanup pinned`: the
+         vertices of one joint with weight >= pin_threshold, farther than pin_margin from any blended
+         vertex, stay put (pin_margin < 0: per bone, a quarter of the widest blend band of its
+         joints); pose_weight >= 0: the attraction holding the soft parts near the skinned pose);
+         space: mesh (the file's POSITION frame) or scene (the mesh node's global matrix applied).
 Output:  a RigPoser.
 Errors:  spinmotor.Error for an unknown name (listing the valid ones), an animation out of range, a
-         pin_threshold outside [0.5, 1], no pin found, a skeleton or mesh the deformers refuse.
+         pin_threshold outside [0.5, 1], a negative pose_weight, no pin found, a skeleton or mesh the
+         deformers refuse.
 )doc")
       .def(
           "bake",
           [](const PyRig& r, const std::filesystem::path& path, py::object frames, py::object times,
              int animation, const std::string& blend, const std::string& cleanup, double pin_threshold,
-             double pin_margin, const std::string& space, py::object name) {
+             double pin_margin, double pose_weight, const std::string& space, py::object name) {
             if (frames.is_none() == times.is_none())
               throw Error("bake: give exactly one of frames (a count) and times (a list of seconds)");
             const scene::RigPoseOptions o =
-                pose_options(animation, blend, cleanup, pin_threshold, pin_margin, space);
+                pose_options(animation, blend, cleanup, pin_threshold, pin_margin, pose_weight, space);
             std::vector<double> t;
             if (!times.is_none()) {
               const Eigen::VectorXd tv = to_vector(times, "times");
@@ -232,11 +239,12 @@ Errors:  spinmotor.Error for an unknown name (listing the valid ones), an animat
           },
           py::arg("path"), py::arg("frames") = py::none(), py::arg("times") = py::none(),
           py::arg("animation") = 0, py::arg("blend") = "lbs", py::arg("cleanup") = "none",
-          py::arg("pin_threshold") = scene::RigPoseOptions{}.pin_threshold,
-          py::arg("pin_margin") = scene::RigPoseOptions{}.pin_margin, py::arg("space") = "mesh",
+          py::arg("pin_threshold") = RigCleanupOptions{}.pin_threshold,
+          py::arg("pin_margin") = RigCleanupOptions{}.pin_margin,
+          py::arg("pose_weight") = RigCleanupOptions{}.pose_weight, py::arg("space") = "mesh",
           py::arg("name") = py::none(), R"doc(
 bake(path, frames=None, times=None, animation=0, blend="lbs", cleanup="none", pin_threshold=0.999,
-     pin_margin=-1, space="mesh", name=None) -> dict(frames (k, n, 3), times (k,))
+     pin_margin=-1, pose_weight=10, space="mesh", name=None) -> dict(frames (k, n, 3), times (k,))
 
 Poses the rig (as poser() with the same options) and writes the frames as a glTF 2.0 morph-target
 animation (.gltf or .glb; positions as float32; a STEP weights animation plays them; Blender shows shape

@@ -5,7 +5,6 @@
 #include <string>
 
 #include "spinmotor/core/error.hpp"
-#include "spinmotor/deform/rig_pins.hpp"
 #include "spinmotor/deform/rig_skin.hpp"
 
 namespace spinmotor::scene {
@@ -19,10 +18,13 @@ const RigPoseOptions& checked(const GltfRig& rig, const RigPoseOptions& o) {
   (void)option_name(o.blend);  // an enum value outside the table (cast from an integer) throws
   (void)option_name(o.cleanup);
   (void)option_name(o.space);
-  if (o.cleanup == RigCleanup::Pinned) {
-    if (!(o.pin_threshold >= 0.5 && o.pin_threshold <= 1.0))
-      throw Error("rig: pin threshold " + std::to_string(o.pin_threshold) + " outside [0.5, 1]");
-    if (!std::isfinite(o.pin_margin)) throw Error("rig: pin margin is not finite");
+  if (o.cleanup == RigCleanupMode::Pinned) {
+    const RigCleanupOptions& c = o.cleanup_options;
+    if (!(c.pin_threshold >= 0.5 && c.pin_threshold <= 1.0))
+      throw Error("rig: pin threshold " + std::to_string(c.pin_threshold) + " outside [0.5, 1]");
+    if (!std::isfinite(c.pin_margin)) throw Error("rig: pin margin is not finite");
+    if (!(c.pose_weight >= 0 && std::isfinite(c.pose_weight)))
+      throw Error("rig: pose weight " + std::to_string(c.pose_weight) + " is not a finite number >= 0");
   }
   return o;
 }
@@ -31,17 +33,9 @@ const RigPoseOptions& checked(const GltfRig& rig, const RigPoseOptions& o) {
 
 RigPoser::RigPoser(const GltfRig& rig, const RigPoseOptions& options)
     : rig_(rig), options_(checked(rig, options)), skin_(bind_rig(rig, options.blend)) {
-  if (options_.cleanup == RigCleanup::None) return;
+  if (options_.cleanup == RigCleanupMode::None) return;
   const RigSkin skin = rig_skin(rig);
-  const Eigen::MatrixXd W(skin.weights);
-  margins_ = options_.pin_margin >= 0
-                 ? Eigen::VectorXd::Constant(W.cols(), options_.pin_margin)
-                 : default_pin_margins(rig.mesh.V, W, skin.bones, options_.pin_threshold);
-  pins_ = pins_from_weights(rig.mesh.V, W, options_.pin_threshold, margins_);
-  if (pins_.size() == 0)
-    throw Error("rig: cleanup pinned: no vertex has a weight ≥ " + std::to_string(options_.pin_threshold) +
-                " far enough from a blended vertex (lower the pin threshold or the pin margin)");
-  cleanup_.emplace(PinnedCleanup::bind(rig.mesh, pins_));
+  cleanup_.emplace(RigCleanup::bind(rig.mesh, skin.weights, skin.bones, options_.cleanup_options));
 }
 
 Eigen::MatrixXd RigPoser::pose_mesh_space(double t) {
@@ -49,7 +43,7 @@ Eigen::MatrixXd RigPoser::pose_mesh_space(double t) {
   Eigen::MatrixXd V;
   skin_.pose(rig_pose_motors(rig_, options_.animation, t), V);
   if (cleanup_) {
-    (void)cleanup_->cleanup(V, scratch_);
+    (void)(*cleanup_)(V, scratch_);
     V.swap(scratch_);
   }
   return V;

@@ -16,8 +16,10 @@
 
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/core/parallel.hpp"
+#include "spinmotor/core/stopwatch.hpp"
 #include "spinmotor/linalg/dirichlet_solver.hpp"
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
+#include "spinmotor/mesh/mass_matrix.hpp"
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
 #include "spinmotor/mesh/topology.hpp"
 
@@ -27,10 +29,6 @@ namespace {
 
 using Vec3 = Eigen::Vector3d;
 using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 /// Rest data of a face with at least one free corner.
 struct ActiveFace {
@@ -87,7 +85,10 @@ struct PinnedCleanup::Impl {
   // free vertex k (= free[k]) -> incidences [inc_offset[k], inc_offset[k+1]) of (active face, corner)
   std::vector<int> inc_offset;
   std::vector<std::pair<int, int>> inc;
-  DirichletSolver solver;
+  DirichletSolver solver;  // L + C with the pins as Dirichlet values
+  // Pose attraction (header comment): c_i = γ a_i m_i / A_rest per vertex (0 on pins and when γ = 0).
+  Eigen::VectorXd attract;
+  bool attracted = false;
   double bind_ms = 0;
   // Vertex cells: the free vertices and their neighbours; cell k is vertex cell_vertex[k], its spokes
   // [cell_offset[k], cell_offset[k+1]) go to cell_nbr with cotangent weights cell_w (= −L_ij);
@@ -149,12 +150,13 @@ PinnedCleanup::PinnedCleanup(PinnedCleanup&&) noexcept = default;
 PinnedCleanup& PinnedCleanup::operator=(PinnedCleanup&&) noexcept = default;
 
 PinnedCleanup PinnedCleanup::bind(const Mesh& rest, const Eigen::VectorXi& pins,
-                                  const PinnedCleanupOptions& options) {
-  return bind(rest, std::span<const int>(pins.data(), static_cast<size_t>(pins.size())), options);
+                                  const PinnedCleanupOptions& options, const Eigen::VectorXd& attraction) {
+  return bind(rest, std::span<const int>(pins.data(), static_cast<size_t>(pins.size())), options,
+              std::span<const double>(attraction.data(), static_cast<size_t>(attraction.size())));
 }
 
 PinnedCleanup PinnedCleanup::bind(const Mesh& rest, std::span<const int> pins,
-                                  const PinnedCleanupOptions& options) {
+                                  const PinnedCleanupOptions& options, std::span<const double> attraction) {
   const auto t0 = Clock::now();
   PinnedCleanup out;
   Impl& m = *out.impl_;
@@ -164,6 +166,8 @@ PinnedCleanup PinnedCleanup::bind(const Mesh& rest, std::span<const int> pins,
     throw Error("PinnedCleanup: vertex_cell_weight must be in [0, 1]");
   if (!(options.tolerance > 0) || !std::isfinite(options.tolerance))
     throw Error("PinnedCleanup: tolerance must be a finite positive number");
+  if (!(options.pose_weight >= 0) || !std::isfinite(options.pose_weight))
+    throw Error("PinnedCleanup: pose_weight must be a finite number ≥ 0");
   if (rest.V.cols() != 3 || rest.F.cols() != 3)
     throw Error("PinnedCleanup: the rest mesh needs n×3 V and m×3 F");
   const Eigen::Index n = rest.V.rows();
@@ -275,8 +279,33 @@ PinnedCleanup PinnedCleanup::bind(const Mesh& rest, std::span<const int> pins,
   }
   m.rest_measure = m.measure_all(rest.V);
 
-  // One factorisation of L_FF (skipped when everything is pinned).
-  if (!fr.empty()) m.solver.bind(L, m.pins, DirichletSolver::Kind::SPD);
+  // Pose attraction: C = diag(c), c_i = γ a_i m_i / A_rest on the free vertices (m_i the barycentric
+  // vertex area of the rest mesh, A_rest its area; a_i the caller's weights, 1 when none are given).
+  if (!attraction.empty() && static_cast<Eigen::Index>(attraction.size()) != n) {
+    std::ostringstream s;
+    s << "PinnedCleanup: " << attraction.size() << " attraction weights for " << n << " vertices";
+    throw Error(s.str());
+  }
+  for (size_t i = 0; i < attraction.size(); ++i)
+    if (!(attraction[i] >= 0 && attraction[i] <= 1)) {
+      std::ostringstream s;
+      s << "PinnedCleanup: attraction weight of vertex " << i << " is " << attraction[i] << ", not in [0, 1]";
+      throw Error(s.str());
+    }
+  m.attract.setZero(n);
+  m.attracted = options.pose_weight > 0;
+  Eigen::SparseMatrix<double> A = L;
+  if (m.attracted) {
+    const Eigen::VectorXd mass = vertex_areas(rest.V, rest.F, MassType::Barycentric);
+    const double area = mass.sum();
+    for (const int i : fr) {
+      m.attract[i] = options.pose_weight * (attraction.empty() ? 1.0 : attraction[i]) * mass[i] / area;
+      A.coeffRef(i, i) += m.attract[i];
+    }
+  }
+
+  // One factorisation of (L + C)_FF (skipped when everything is pinned).
+  if (!fr.empty()) m.solver.bind(A, m.pins, DirichletSolver::Kind::SPD);
   // Vertex cells from the Laplacian's off-diagonal entries.
   m.cell_of.assign(n, -1);
   for (const int i : fr) {
@@ -441,8 +470,18 @@ PinnedCleanupResult PinnedCleanup::cleanup(const Eigen::MatrixXd& V_edit, Eigen:
       }
     }
     r.collapsed_cells += fallback;
-    // E = (1 − β) E_faces + β/2 E_vertices (both ≈ 2 × area for a unit mismatch), normalised.
-    return std::max((1 - beta) * energy + 0.5 * beta * energy_v, 0.0) / e_scale;
+    // Pose attraction Σ_i c_i |v_i − v1_i|² (free vertices; 0 without it).
+    double energy_a = 0;
+    if (m.attracted) {
+#pragma omp parallel for schedule(static) reduction(+ : energy_a) if (parallel::worth(nfl, parallel::kMotorBlend))
+      for (long k = 0; k < nfl; ++k) {
+        const int i = m.free[k];
+        energy_a += m.attract[i] * (V.row(i) - V_edit.row(i)).squaredNorm();
+      }
+    }
+    // E = (1 − β) E_faces + β/2 E_vertices + E_attraction (the first two ≈ 2 × area for a unit
+    // mismatch), normalised.
+    return std::max((1 - beta) * energy + 0.5 * beta * energy_v + energy_a, 0.0) / e_scale;
   };
   // Anderson acceleration of the fixed point x -> G(x) (one local + global step) on the free
   // coordinates (Peng et al. 2018, "Anderson acceleration for geometry optimization and physics
@@ -517,7 +556,24 @@ PinnedCleanupResult PinnedCleanup::cleanup(const Eigen::MatrixXd& V_edit, Eigen:
         hv.row(k) << q.w(), q.x(), q.y(), q.z(), logs;
       }
       const auto th = Clock::now();
-      const Eigen::MatrixXd X = m.solver.solve(hv);
+      // With the pose attraction the solver's matrix is L + C: the interpolation then becomes
+      // (L + C)_FF x_F = C x̂_F − L_FP x_P, screened toward x̂ = the similarities fitted to the edit
+      // (where the edit is trusted, its own similarities; harmonic where c = 0).
+      Eigen::MatrixXd hb;
+      if (m.attracted) {
+        hb.setZero(m.n, 5);
+        for (Eigen::Index k = 0; k < nfree; ++k) {
+          const int i = m.free[k];
+          const Eigen::Matrix3d& Ti = m.cell_T[m.cell_of[i]];
+          const double sc = Ti.col(0).norm();
+          if (!(sc > 0) || m.attract[i] == 0) continue;
+          Eigen::Quaterniond q(Eigen::Matrix3d(Ti / sc));
+          if (q.dot(ref) < 0) q.coeffs() *= -1;
+          hb.row(i) << q.w(), q.x(), q.y(), q.z(), std::log(sc);
+          hb.row(i) *= m.attract[i];
+        }
+      }
+      const Eigen::MatrixXd X = m.attracted ? m.solver.solve(hb, hv) : m.solver.solve(hv);
       r.solve_ms += ms_since(th);
       for (Eigen::Index k = 0; k < nfree; ++k) {
         const int i = m.free[k];
@@ -563,6 +619,7 @@ PinnedCleanupResult PinnedCleanup::cleanup(const Eigen::MatrixXd& V_edit, Eigen:
           }
         }
       }
+      if (m.attracted) b += m.attract[i] * V_edit.row(i).transpose();
       m.B.row(i).head<3>() = b;
       if (constrained) {
         m.B.row(i).tail<3>() = g;

@@ -63,6 +63,15 @@ Eigen::VectorXi pins_from_weights(const Eigen::MatrixXd& V, const Eigen::MatrixX
 Eigen::VectorXd default_pin_margins(const Eigen::MatrixXd& V, const Eigen::MatrixXd& W,
                                     std::span<const Bone> bones, double threshold = 0.999);
 
+/// Per-vertex weights of the cleanup's pose attraction (spin/pinned_cleanup.hpp, bind's `attraction`):
+/// a_i = smoothstep(t), t = clamp((w*(i) − low) / (threshold − low), 0, 1) with w* the normalised dominant
+/// weight: 1 where one bone moves the vertex rigidly (w* ≥ threshold), 0 where two bones share it
+/// equally (w* ≤ low, the middle of a joint, where LBS collapses and the cleanup must be free), smooth
+/// between. Inputs: W (n×B, as pins_from_weights), threshold in (0, 1], low in [0, threshold).
+/// Output: n values in [0, 1]. Throws Error naming the bad vertex or parameter.
+Eigen::VectorXd pin_attraction_from_weights(const Eigen::MatrixXd& W, double threshold = 0.999,
+                                            double low = 0.5);
+
 /// A quarter of the largest joint blend width (0 when no vertex is blended).
 double default_pin_margin(const Eigen::MatrixXd& V, const Eigen::MatrixXd& W, std::span<const Bone> bones,
                           double threshold = 0.999);

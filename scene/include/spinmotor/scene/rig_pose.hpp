@@ -5,11 +5,8 @@
 // animation (write_gltf_morph_animation). One implementation for `spinmotor rig pose` and the Python
 // module's Rig.poser / Rig.bake.
 //
-// Cleanup "pinned": bound once per RigPoser. The vertices of one joint (dominant weight ≥
-// pin_threshold) farther than pin_margin from every blended vertex stay where the skin put them
-// (pin_margin < 0: per bone, a quarter of the widest blend band of the joints it takes part in,
-// default_pin_margins); the rest is made as conformal as possible at the rest volume (closed surfaces)
-// or area.
+// Cleanup "pinned": the rig cleanup (scene/rig_cleanup.hpp: pins and pose attraction from the skin
+// weights, the pose-keeping cleanup), bound once per RigPoser with its options and defaults.
 // Space: Mesh is the file's POSITION frame; Scene applies the mesh node's global matrix at the frame's
 // time (for the Khronos samples: their Z-up root). A baked glTF stays in mesh space and carries the
 // node's rest global matrix instead (Space::Scene), so that it sits in its scene as the source did.
@@ -22,15 +19,15 @@
 #include "spinmotor/core/option_names.hpp"
 #include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/mesh/gltf.hpp"
-#include "spinmotor/spin/pinned_cleanup.hpp"
+#include "spinmotor/scene/rig_cleanup.hpp"
 
 namespace spinmotor::scene {
 
 /// Post-skinning cleanup of each frame (CLI `rig pose --cleanup`, Python `cleanup=`).
-enum class RigCleanup { None, Pinned };
-inline constexpr OptionNames<RigCleanup, 2> kRigCleanupNames{
-    "cleanup", {{{RigCleanup::None, "none"}, {RigCleanup::Pinned, "pinned"}}}};
-constexpr const auto& option_names(RigCleanup) { return kRigCleanupNames; }
+enum class RigCleanupMode { None, Pinned };
+inline constexpr OptionNames<RigCleanupMode, 2> kRigCleanupModeNames{
+    "cleanup", {{{RigCleanupMode::None, "none"}, {RigCleanupMode::Pinned, "pinned"}}}};
+constexpr const auto& option_names(RigCleanupMode) { return kRigCleanupModeNames; }
 
 /// Output coordinates (CLI `rig pose --space`, Python `space=`).
 enum class RigSpace { Mesh, Scene };
@@ -41,18 +38,17 @@ constexpr const auto& option_names(RigSpace) { return kRigSpaceNames; }
 struct RigPoseOptions {
   int animation = 0;                 ///< index into rig.animations; −1: the rest pose
   SkinBlend blend = SkinBlend::LBS;  ///< skinning blend
-  RigCleanup cleanup = RigCleanup::None;
-  double pin_threshold = 0.999;  ///< cleanup pinned: dominant weight of a rigid vertex, in [0.5, 1]
-  double pin_margin = -1;        ///< cleanup pinned: distance to blended vertices; < 0: per-bone default
+  RigCleanupMode cleanup = RigCleanupMode::None;
+  RigCleanupOptions cleanup_options;  ///< cleanup pinned: pins, pose attraction, the cleanup's options
   RigSpace space = RigSpace::Mesh;
 };
 
 class RigPoser {
  public:
   /// Bind. Inputs: the rig (must outlive the poser), options. Binds the skin deformer and, with cleanup
-  /// pinned, the cleanup (pins from the weights). Throws Error for an animation out of range, a
-  /// threshold outside [0.5, 1], a non-finite margin, no pin found, a skeleton the skin deformer
-  /// refuses, a rest mesh the cleanup refuses.
+  /// pinned, the rig cleanup (RigCleanup::bind). Throws Error for an animation out of range, a pin
+  /// threshold outside [0.5, 1], a non-finite margin or a negative pose weight, no pin found, a skeleton
+  /// the skin deformer refuses, a rest mesh the cleanup refuses.
   explicit RigPoser(const GltfRig& rig, const RigPoseOptions& options = {});
 
   /// Positions (n×3) at time t (seconds, clamped to the animation's range): skinned, cleaned up as
@@ -64,16 +60,16 @@ class RigPoser {
   const RigPoseOptions& options() const { return options_; }
   const GltfRig& rig() const { return rig_; }
   /// Pinned vertices (sorted; empty without cleanup) and the per-bone margins used.
-  const Eigen::VectorXi& pins() const { return pins_; }
-  const Eigen::VectorXd& pin_margins() const { return margins_; }
+  const Eigen::VectorXi& pins() const { return cleanup_ ? cleanup_->pins : no_pins_; }
+  const Eigen::VectorXd& pin_margins() const { return cleanup_ ? cleanup_->margins : no_margins_; }
 
  private:
   const GltfRig& rig_;
   RigPoseOptions options_;
   SkinDeformer skin_;
-  std::optional<PinnedCleanup> cleanup_;
-  Eigen::VectorXi pins_;
-  Eigen::VectorXd margins_;
+  std::optional<RigCleanup> cleanup_;
+  Eigen::VectorXi no_pins_;
+  Eigen::VectorXd no_margins_;
   Eigen::MatrixXd scratch_;
 };
 

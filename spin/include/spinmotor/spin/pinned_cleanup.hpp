@@ -74,6 +74,21 @@
 //           For a per-frame time budget cap max_iterations: the 90° elbow + 90° twist (6k) reaches
 //           Q_max 1.51 at its stop (97 steps) but 2.58 at 40; at 100k vertices (bench_pinned_cleanup,
 //           bend 90°) one step costs ~60 ms of CPU, and 10 steps already give Q_mean 1.020, Q_max 1.23.
+// Pose attraction (soft pins). Pins hold what they pin, not what lies between: on a rig with soft weights
+// (CesiumMan: 62 pins at the default threshold for 2,338 vertices) the free region is most of the body,
+// and the conformal optimum drifts from the pose (4% of the diagonal, a stride that closes). An optional
+// term holds every free vertex near the edit with a strength of its own:
+//   E_a = Σ_{i free} c_i |v_i − v1_i|²,  c_i = γ a_i m_i / A,
+// γ = options.pose_weight (dimensionless), a_i ∈ [0, 1] per vertex (bind's `attraction`, e.g. a rig's
+// dominant skin weight mapped to 1 on rigid parts and 0 at the joint's centre: rig_pins.hpp
+// pin_attraction_from_weights), m_i the barycentric vertex area and A the area of the rest mesh, so that
+// E_a is independent of the sampling and of the mesh's scale in the same units as the ASAP energy (for a
+// uniform offset of the whole mesh by d: E_a = γ d²). It is a continuous penalty toward the edit, so the
+// pins stay exact and everything else trades conformality against pose by γ. The global step becomes
+// (L + C) V = b + C V1 (C = diag(c), factorised once at bind instead of L: no cost per frame), the
+// energy and stopping rule include E_a, and the harmonic start interpolates the pinned cells'
+// similarities by (L + C)_FF x_F = C x̂_F − L_FP x_P, i.e. toward the similarities fitted to the edit
+// where it is attracted (x̂) and harmonically where c = 0.
 // Faces whose three corners are pinned never change and are skipped, so the per-frame cost scales with
 // the free region (plus O(n) passes in the Dirichlet solve).
 //
@@ -126,6 +141,9 @@ struct PinnedCleanupOptions {
   /// First global step from the pinned cells' similarities interpolated harmonically over the free
   /// vertices instead of those fitted to the edit (header comment).
   bool harmonic_start = true;
+  /// γ ≥ 0: strength of the pose attraction E_a = γ/A Σ_i a_i m_i |v_i − v1_i|² that holds the free
+  /// vertices near the edit (header comment, "Pose attraction"); 0 (default) = pins only.
+  double pose_weight = 0;
   /// Record the area-weighted Q_mean of the whole mesh after every global step (result.q_mean);
   /// costs one pass over all faces per iteration, for convergence reports.
   bool record_quasi_conformal = false;
@@ -160,10 +178,14 @@ class PinnedCleanup {
   /// Bind once per rest mesh and pin set: validation, rest gradients and areas, the cotangent
   /// Laplacian of the rest mesh and the Cholesky factor of its free block (DirichletSolver). Errors as
   /// in the header comment.
+  /// attraction: the per-vertex a_i ∈ [0, 1] of the pose attraction (n values; empty = all 1; read
+  /// only when options.pose_weight > 0).
   static PinnedCleanup bind(const Mesh& rest, std::span<const int> pins,
-                            const PinnedCleanupOptions& options = {});
+                            const PinnedCleanupOptions& options = {},
+                            std::span<const double> attraction = {});
   static PinnedCleanup bind(const Mesh& rest, const Eigen::VectorXi& pins,
-                            const PinnedCleanupOptions& options = {});
+                            const PinnedCleanupOptions& options = {},
+                            const Eigen::VectorXd& attraction = Eigen::VectorXd());
 
   /// One frame. Inputs: V_edit (n×3). Output: V_out (n×3; pins copied bit for bit from V_edit). Keeps
   /// its scratch in the object (one cleanup at a time per object); no factorisation.
