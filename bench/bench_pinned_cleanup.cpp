@@ -10,8 +10,10 @@
 //   frame/<edit>/<mesh>      one cleanup() on the bound object (no factorisation), default options;
 //                            edits: LBS of the elbow bent 90° (bend90) and bent 90° + twisted 90°
 //                            (bend90twist90)
+//   frame/<edit>/<mesh>/attract10   the same with the rig defaults' pose attraction (γ = 10, weights
+//                            pin_attraction_from_weights: scene/rig_cleanup.hpp)
 // Counters: iterations, local_ms, solve_ms, q_edit, q_mean, q_max, volume (ratio to rest), free
-// (free vertices).
+// (free vertices), rms (RMS distance to the edit / diagonal).
 #include <benchmark/benchmark.h>
 
 #include <Eigen/Geometry>
@@ -75,9 +77,11 @@ void BM_Bind(benchmark::State& st, int rings, int sides) {
   st.counters["pins"] = static_cast<double>(a.pins.size());
 }
 
-void BM_Frame(benchmark::State& st, int rings, int sides, double bend_deg, double twist_deg) {
+void BM_Frame(benchmark::State& st, int rings, int sides, double bend_deg, double twist_deg, double gamma) {
   const Arm& a = arm(rings, sides);
-  PinnedCleanup pc = PinnedCleanup::bind(a.mesh, a.pins);
+  PinnedCleanupOptions o;
+  o.pose_weight = gamma;
+  PinnedCleanup pc = PinnedCleanup::bind(a.mesh, a.pins, o, pin_attraction_from_weights(a.W));
   const Eigen::MatrixXd E = lbs(a, bend_deg * M_PI / 180, twist_deg * M_PI / 180);
   Eigen::MatrixXd V;
   PinnedCleanupResult r;
@@ -95,6 +99,8 @@ void BM_Frame(benchmark::State& st, int rings, int sides, double bend_deg, doubl
   st.counters["q_max"] = q.q_max;
   st.counters["volume"] = r.measure_ratio();
   st.counters["free"] = static_cast<double>(pc.free_vertices().size());
+  st.counters["rms"] = std::sqrt((V - E).rowwise().squaredNorm().mean()) /
+                       (E.colwise().maxCoeff() - E.colwise().minCoeff()).norm();
 }
 
 const bool registered = [] {
@@ -109,14 +115,17 @@ const bool registered = [] {
     benchmark::RegisterBenchmark((std::string("bind/") + m.name).c_str(), BM_Bind, m.rings, m.sides)
         ->Unit(benchmark::kMillisecond)
         ->Iterations(reps);
-    benchmark::RegisterBenchmark((std::string("frame/bend90/") + m.name).c_str(), BM_Frame, m.rings, m.sides,
-                                 90.0, 0.0)
-        ->Unit(benchmark::kMillisecond)
-        ->Iterations(reps);
-    benchmark::RegisterBenchmark((std::string("frame/bend90twist90/") + m.name).c_str(), BM_Frame, m.rings,
-                                 m.sides, 90.0, 90.0)
-        ->Unit(benchmark::kMillisecond)
-        ->Iterations(reps);
+    for (const double gamma : {0.0, 10.0}) {
+      const std::string suffix = gamma > 0 ? "/attract10" : "";
+      benchmark::RegisterBenchmark((std::string("frame/bend90/") + m.name + suffix).c_str(), BM_Frame,
+                                   m.rings, m.sides, 90.0, 0.0, gamma)
+          ->Unit(benchmark::kMillisecond)
+          ->Iterations(reps);
+      benchmark::RegisterBenchmark((std::string("frame/bend90twist90/") + m.name + suffix).c_str(), BM_Frame,
+                                   m.rings, m.sides, 90.0, 90.0, gamma)
+          ->Unit(benchmark::kMillisecond)
+          ->Iterations(reps);
+    }
   }
   return true;
 }();

@@ -68,8 +68,10 @@ void run(const DeformArgs& a) {
             << "  bind " << fmt("%.2f", r.bind_ms) << " ms\n";
   for (std::size_t f = 0; f < r.frames.size(); ++f) {
     const nlohmann::json& m = r.frames[f].metrics;
-    std::cout << "  " << (scene.animated ? "frame " + std::to_string(f) + ": " : std::string()) << "pose "
-              << fmt("%.2f", r.frames[f].pose_ms) << " ms, Q mean " << number(m["q_mean"], "%.4f")
+    std::cout << "  "
+              << (scene.animated ? "frame " + std::to_string(scene.first_frame + f) + ": " : std::string())
+              << (scene.frames[f].time ? "t = " + fmt("%.4g", *scene.frames[f].time) + " s, " : std::string())
+              << "pose " << fmt("%.2f", r.frames[f].pose_ms) << " ms, Q mean " << number(m["q_mean"], "%.4f")
               << ", Q max " << number(m["q_max"], "%.4f") << ", area distortion "
               << number(m["area_distortion"], "%.4f") << ", max handle error "
               << number(m.value("max_handle_error", nlohmann::json()), "%.3g") << '\n';

@@ -1,7 +1,10 @@
 // `spinmotor rig`: glTF 2.0 skinned characters (mesh/gltf.hpp, deform/rig_skin.hpp).
 //   rig info FILE [--json]      joints, welded vertex count, renormalised weights, animations
-//   rig pose FILE (--time T | --frames N) [--animation I] [--blend lbs|dlb|log|pivot-log] --out PATH
-//       posed meshes: one file at PATH (--time), or PATH's stem + ".0000", ".0001", ... (--frames);
+//   rig pose FILE (--time T | --frames N | --frames A:B --fps F) [--animation NAME|INDEX]
+//            [--blend lbs|dlb|log|pivot-log] --out PATH
+//       posed meshes: one file at PATH (--time), or PATH's stem + ".0000", ".0001", ... (--frames N: N
+//       frames evenly over the animation; --frames A:B --fps F: frames A..B, frame k at time k / F and
+//       numbered k);
 //       a .gltf/.glb PATH holds all frames as morph targets driven by a STEP weights animation;
 //       [--space mesh|scene]: positions in the file's mesh space (default) or placed in its scene;
 //       [--cleanup none|pinned]: the pose-keeping cleanup of every frame.
@@ -15,7 +18,6 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <optional>
 
 #include "command.hpp"
 #include "spinmotor/core/error.hpp"
@@ -35,12 +37,13 @@ struct RigArgs {
   bool json = false;
   // pose
   double time = std::nan("");
-  int frames = 0;
-  int animation = 0;
+  std::string frames;           // "N" or "A:B"
+  double fps = std::nan("");    // with --frames A:B
+  std::string animation = "0";  // an index or a name
   std::string blend = "lbs";
   std::string out;
   std::string cleanup = "none";
-  spinmotor::RigCleanupOptions rig_cleanup;  // --cleanup pinned (defaults: scene/rig_cleanup.hpp)
+  spinmotor::scene::RigCleanupOptions rig_cleanup;  // --cleanup pinned (defaults: scene/rig_cleanup.hpp)
   std::string space = "mesh";
 };
 
@@ -125,11 +128,62 @@ void run_info(const RigArgs& a) {
   for (const auto& w : rig.warnings) std::cerr << "spinmotor: warning: " << w << '\n';
 }
 
+/// --frames: "N" (N ≥ 1 frames evenly over the animation) or "A:B" (frame numbers A ≤ B, with --fps).
+struct FrameRange {
+  int count = 0;              // N, or B − A + 1
+  int first = -1, last = -1;  // A:B (first ≥ 0), else −1
+};
+
+FrameRange parse_frames(const std::string& text) {
+  auto number = [&](const std::string& t) {
+    if (t.empty() || t.size() > 9 || t.find_first_not_of("0123456789") != std::string::npos)
+      throw Error("rig pose: --frames '" + text + "': expected N or A:B (whole numbers ≥ 0)");
+    return std::stoi(t);
+  };
+  FrameRange r;
+  const auto colon = text.find(':');
+  if (colon == std::string::npos) {
+    r.count = number(text);
+    if (r.count < 1) throw Error("rig pose: --frames N needs N ≥ 1");
+    return r;
+  }
+  r.first = number(text.substr(0, colon));
+  r.last = number(text.substr(colon + 1));
+  if (r.last < r.first) throw Error("rig pose: --frames " + text + ": the last frame comes before the first");
+  if (r.last - r.first >= 100000) throw Error("rig pose: --frames " + text + ": more than 100000 frames");
+  r.count = r.last - r.first + 1;
+  return r;
+}
+
+/// --animation: an index into the file's animations, or a name.
+int animation_index(const spinmotor::GltfRig& rig, const std::string& which) {
+  const int count = static_cast<int>(rig.animations.size());
+  if (!which.empty() && which.size() < 10 && which.find_first_not_of("0123456789") == std::string::npos) {
+    const int k = std::stoi(which);
+    if (k >= count)
+      throw Error("rig pose: --animation " + which + " out of range (the file has " + std::to_string(count) +
+                  ")");
+    return k;
+  }
+  std::string names;
+  for (int k = 0; k < count; ++k) {
+    if (rig.animations[k].name == which) return k;
+    names += (names.empty() ? "'" : ", '") + rig.animations[k].name + "'";
+  }
+  throw Error("rig pose: --animation: no animation named '" + which + "' (the file has " + names + ")");
+}
+
 void run_pose(const RigArgs& a) {
   // Validate everything before reading or writing.
   const bool by_time = !std::isnan(a.time);
-  if (by_time == (a.frames > 0)) throw Error("rig pose: give exactly one of --time T and --frames N (N ≥ 1)");
+  if (by_time == !a.frames.empty())
+    throw Error("rig pose: give exactly one of --time T and --frames N | A:B");
   if (by_time && !std::isfinite(a.time)) throw Error("rig pose: --time must be finite");
+  const FrameRange range = by_time ? FrameRange{1, -1, -1} : parse_frames(a.frames);
+  const bool numbered = range.first >= 0;
+  if (numbered && !(a.fps > 0 && std::isfinite(a.fps)))
+    throw Error("rig pose: --frames A:B needs --fps F > 0 (frame k is at time k / F)");
+  if (!numbered && !std::isnan(a.fps)) throw Error("rig pose: --fps goes with --frames A:B");
   if (a.out.empty()) throw Error("rig pose: --out PATH is required");
   const fs::path out(a.out);
   const std::string ext = lower(out.extension().string());
@@ -140,36 +194,32 @@ void run_pose(const RigArgs& a) {
   const spinmotor::GltfRig rig = spinmotor::read_gltf(a.file);
   for (const auto& w : rig.warnings) std::cerr << "spinmotor: warning: " << w << '\n';
   if (rig.animations.empty()) throw Error(a.file + ": the file has no animation to pose");
-  if (a.animation < 0 || a.animation >= static_cast<int>(rig.animations.size()))
-    throw Error("rig pose: --animation " + std::to_string(a.animation) + " out of range (the file has " +
-                std::to_string(rig.animations.size()) + ")");
-  const spinmotor::GltfAnimation& anim = rig.animations[a.animation];
+  const int animation = animation_index(rig, a.animation);
+  const spinmotor::GltfAnimation& anim = rig.animations[animation];
 
-  const int n = by_time ? 1 : a.frames;
-  const std::vector<double> times =
-      by_time ? std::vector<double>{a.time} : spinmotor::scene::rig_frame_times(rig, a.animation, n);
+  const int n = range.count;
+  std::vector<double> times(n);
+  std::vector<int> numbers(n);  // the frame number in output names
+  for (int f = 0; f < n; ++f) {
+    numbers[f] = numbered ? range.first + f : f;
+    times[f] = by_time ? a.time : numbered ? numbers[f] / a.fps : spinmotor::gltf_frame_time(anim, f, n);
+  }
   spinmotor::scene::RigPoseOptions po;
-  po.animation = a.animation;
+  po.animation = animation;
   po.blend = blend;
   po.cleanup = spinmotor::parse_option<spinmotor::scene::RigCleanupMode>(a.cleanup, "rig pose: --cleanup: ");
   po.cleanup_options = a.rig_cleanup;
   po.space = spinmotor::parse_option<spinmotor::scene::RigSpace>(a.space, "rig pose: --space: ");
-  std::optional<spinmotor::scene::RigPoser> poser;  // scene/rig_pose.hpp: skin, cleanup, placement
-  try {
-    poser.emplace(rig, po);
-  } catch (const Error& e) {
-    if (po.cleanup == spinmotor::scene::RigCleanupMode::None) throw;
-    throw Error(std::string("rig pose: --cleanup pinned: ") + e.what(), e.kind());
-  }
-  if (poser->pins().size() > 0)
-    std::cerr << "rig pose: cleanup pinned: " << poser->pins().size() << " of " << rig.mesh.V.rows()
-              << " vertices pinned (largest margin " << poser->pin_margins().maxCoeff() << "), pose weight "
+  spinmotor::scene::RigPoser poser(rig, po);  // scene/rig_pose.hpp: skin, cleanup, placement
+  if (poser.pins().size() > 0)
+    std::cerr << "rig pose: cleanup pinned: " << poser.pins().size() << " of " << rig.mesh.V.rows()
+              << " vertices pinned (largest margin " << poser.pin_margins().maxCoeff() << "), pose weight "
               << po.cleanup_options.pose_weight << "\n";
-  auto pose_frame = [&](int f) { return poser->pose(times[f]); };
+  auto pose_frame = [&](int f) { return poser.pose(times[f]); };
 
   std::vector<fs::path> written;
   if (gltf_out) {
-    spinmotor::scene::bake_rig_gltf(out, *poser, times, out.stem().string());
+    spinmotor::scene::bake_rig_gltf(out, poser, times, out.stem().string());
     written.push_back(out);
   } else if (by_time) {
     spinmotor::Mesh m = rig.mesh;
@@ -193,7 +243,7 @@ void run_pose(const RigArgs& a) {
       spinmotor::Mesh m = rig.mesh;
       for (int f = 0; f < n; ++f) {
         char num[16];
-        std::snprintf(num, sizeof num, ".%04d", f);
+        std::snprintf(num, sizeof num, ".%04d", numbers[f]);
         const fs::path name = out.stem().string() + num + out.extension().string();
         m.V = pose_frame(f);
         spinmotor::write_mesh(stage / name, m);
@@ -212,7 +262,13 @@ void run_pose(const RigArgs& a) {
   }
   std::cout << rig.file.filename().string() << ": " << rig.mesh.num_vertices() << " vertices, "
             << rig.num_joints() << " joints, animation '" << anim.name << "', blend " << a.blend << ", " << n
-            << " frame" << (n > 1 ? "s" : "") << '\n';
+            << " frame" << (n > 1 ? "s" : "");
+  char span[96];
+  if (n > 1)
+    std::snprintf(span, sizeof span, " (t = %.4g .. %.4g s)", times.front(), times.back());
+  else
+    std::snprintf(span, sizeof span, " (t = %.4g s)", times.front());
+  std::cout << span << '\n';
   if (written.size() <= 3)
     for (const auto& p : written) std::cout << "  wrote " << p.string() << '\n';
   else
@@ -233,8 +289,12 @@ const spinmotor::cli::RegisterCommand reg{
       CLI::App* pose = sub.add_subcommand("pose", "Pose the rig's animation and write the skinned meshes");
       pose->add_option("file", a->file, "glTF file (.gltf or .glb)")->required();
       pose->add_option("--time", a->time, "One frame at time T (seconds; clamped to the animation's range)");
-      pose->add_option("--frames", a->frames, "N frames evenly over the animation (first to last key time)");
-      pose->add_option("--animation", a->animation, "Animation index (default 0)");
+      pose->add_option(
+          "--frames", a->frames,
+          "N: N frames evenly over the animation (first to last key time, numbered from 0); A:B: "
+          "frames A to B at --fps (frame k at time k / fps, numbered k)");
+      pose->add_option("--fps", a->fps, "Frames per second of --frames A:B");
+      pose->add_option("--animation", a->animation, "Animation index or name (default 0, the first)");
       pose->add_option(
               "--blend", a->blend,
               "Skinning blend (default lbs): lbs, dlb (dual quaternion / motor linear), log, pivot-log")
@@ -272,6 +332,7 @@ const spinmotor::cli::RegisterCommand reg{
           "  spinmotor rig info ../shared/rigs/CesiumMan.gltf --json\n"
           "  spinmotor rig pose ../shared/rigs/RiggedFigure.gltf --frames 24 --blend dlb --out "
           "out/frame.obj\n"
+          "  spinmotor rig pose ../shared/rigs/CesiumMan.gltf --frames 0:48 --fps 24 --out out/walk.obj\n"
           "  spinmotor rig pose ../shared/rigs/CesiumMan.gltf --time 1.2 --space scene --out posed.ply\n"
           "  spinmotor rig pose ../shared/rigs/CesiumMan.gltf --frames 24 --cleanup pinned --out "
           "out/clean.obj\n"

@@ -43,7 +43,7 @@ const cli::RegisterCommand reg{
       struct Args {
         std::string rest, edited, out, problem = "standard", align = "similarity", mode = "free", pin,
                                        keep = "auto";
-        double tradeoff = 1.0, area_constraint = 0.0;
+        double tradeoff = 1.0, area_constraint = 0.0, pose_weight = PinnedCleanupOptions{}.pose_weight;
         int smooth = 0, steps = 4;
         bool json = false, quiet = false;
       };
@@ -82,6 +82,12 @@ const cli::RegisterCommand reg{
       sub.add_option("--keep", a->keep,
                      "--mode pinned: measure kept at its rest value (auto: volume if closed, else area)")
           ->check(CLI::IsMember(option_values<CleanupKeep>()))
+          ->capture_default_str();
+      sub.add_option(
+             "--pose-weight", a->pose_weight,
+             "--mode pinned: γ ≥ 0 of the attraction holding the free vertices near EDITED (0 = the pins "
+             "only; spin/pinned_cleanup.hpp)")
+          ->check(CLI::NonNegativeNumber)
           ->capture_default_str();
       sub.add_option("--steps", a->steps, "--mode shape: extrusion steps")
           ->check(CLI::Range(1, 1000))
@@ -123,7 +129,8 @@ const cli::RegisterCommand reg{
         const SnapMode mode =
             !a->pin.empty() && mode_opt->count() == 0 ? SnapMode::Pinned : parse_option<SnapMode>(a->mode);
         if (mode == SnapMode::Pinned) {
-          cli::snap_pinned(rest, edited, {a->rest, a->pin, a->out, a->keep, a->json, a->quiet});
+          cli::snap_pinned(rest, edited,
+                           {a->rest, a->pin, a->out, a->keep, a->pose_weight, a->json, a->quiet});
           return;
         }
         if (!a->pin.empty())

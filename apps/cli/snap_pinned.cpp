@@ -19,6 +19,7 @@ void snap_pinned(const Mesh& rest, const Mesh& edited, const SnapPinnedArgs& a) 
   const Eigen::VectorXi pins = read_pin_file(a.pin_file, rest.V.rows());
   PinnedCleanupOptions o;
   o.keep = parse_option<CleanupKeep>(a.keep, "snap: --keep: ");
+  o.pose_weight = a.pose_weight;
   PinnedCleanup pc = PinnedCleanup::bind(rest, pins, o);
   Eigen::MatrixXd V;
   const PinnedCleanupResult r = pc.cleanup(edited.V, V);
@@ -36,6 +37,7 @@ void snap_pinned(const Mesh& rest, const Mesh& edited, const SnapPinnedArgs& a) 
                                 {"faces", rest.F.rows()},
                                 {"pins", pc.pins().size()},
                                 {"keep", kept},
+                                {"pose_weight", a.pose_weight},
                                 {"q_mean_before", finite(q0.q_mean)},
                                 {"q_max_before", finite(q0.q_max)},
                                 {"q_mean_after", finite(q1.q_mean)},

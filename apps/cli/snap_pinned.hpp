@@ -4,11 +4,13 @@
 #include <string>
 
 #include "spinmotor/mesh/mesh.hpp"
+#include "spinmotor/spin/pinned_cleanup.hpp"
 
 namespace spinmotor::cli {
 
 struct SnapPinnedArgs {
   std::string rest_path, pin_file, out, keep = "auto";
+  double pose_weight = PinnedCleanupOptions{}.pose_weight;  ///< γ, uniform attraction a_i = 1
   bool json = false, quiet = false;
 };
 

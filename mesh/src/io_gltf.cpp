@@ -15,6 +15,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "gltf_builder.hpp"
 #include "spinmotor/core/atomic_file.hpp"
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/gltf.hpp"
@@ -982,95 +983,34 @@ void write_gltf_morph_animation(const std::filesystem::path& path, const Mesh& r
   const bool uv = rest.has_uv();
 
   // glTF vertices: one per distinct (vertex, uv index) corner pair (UVs split vertices at seams),
-  // ordered by vertex (the copies of a vertex are contiguous, in order of first use), so that welding
-  // equal positions back (read_gltf_morph_animation) returns the vertices in `rest`'s order.
-  std::vector<int> vert_of, uv_of;
-  std::vector<uint32_t> indices(static_cast<size_t>(3 * m));
-  {
-    std::vector<std::vector<int>> uvs_of(static_cast<size_t>(n));  // distinct uv indices per vertex
-    for (Eigen::Index f = 0; f < m; ++f)
-      for (int k = 0; k < 3; ++k) {
-        const int v = rest.F(f, k), t = uv ? rest.FUV(f, k) : 0;
-        if (uv && (t < 0 || t >= rest.UV.rows()))
-          throw Error(file + ": face " + std::to_string(f) + " uv index out of range");
-        auto& list = uvs_of[static_cast<size_t>(v)];
-        if (std::find(list.begin(), list.end(), t) == list.end()) list.push_back(t);
-      }
-    std::vector<uint32_t> first_id(static_cast<size_t>(n));
-    for (Eigen::Index v = 0; v < n; ++v) {
-      first_id[static_cast<size_t>(v)] = static_cast<uint32_t>(vert_of.size());
-      for (int t : uvs_of[static_cast<size_t>(v)]) vert_of.push_back(static_cast<int>(v)), uv_of.push_back(t);
-    }
-    for (Eigen::Index f = 0; f < m; ++f)
-      for (int k = 0; k < 3; ++k) {
-        const int v = rest.F(f, k), t = uv ? rest.FUV(f, k) : 0;
-        const auto& list = uvs_of[static_cast<size_t>(v)];
-        indices[static_cast<size_t>(3 * f + k)] =
-            first_id[static_cast<size_t>(v)] +
-            static_cast<uint32_t>(std::find(list.begin(), list.end(), t) - list.begin());
-      }
-  }
+  // ordered by vertex, so that welding equal positions back (read_gltf_morph_animation) returns the
+  // vertices in `rest`'s order.
+  const detail::CornerSplit split = detail::split_corners(rest, file, true);
+  const std::vector<int>&vert_of = split.vertex, &uv_of = split.uv;
   const size_t nv = vert_of.size(), nframes = frames.size();
 
-  tinygltf::Model model;
-  model.asset.version = "2.0";
-  model.asset.generator = "spinmotor";
-  tinygltf::Buffer buffer;
-  auto& bytes = buffer.data;
-  auto add_view = [&](const void* data, size_t size, int target) {
-    while (bytes.size() % 4) bytes.push_back(0);
-    tinygltf::BufferView bv;
-    bv.buffer = 0;
-    bv.byteOffset = bytes.size();
-    bv.byteLength = size;
-    bv.target = target;
-    const auto* p = static_cast<const unsigned char*>(data);
-    bytes.insert(bytes.end(), p, p + size);
-    model.bufferViews.push_back(bv);
-    return static_cast<int>(model.bufferViews.size() - 1);
-  };
-  auto add_accessor = [&](int view, int ct, size_t count, int type, std::vector<double> mn,
-                          std::vector<double> mx) {
-    tinygltf::Accessor a;
-    a.bufferView = view;
-    a.componentType = ct;
-    a.count = count;
-    a.type = type;
-    a.minValues = std::move(mn);
-    a.maxValues = std::move(mx);
-    model.accessors.push_back(a);
-    return static_cast<int>(model.accessors.size() - 1);
-  };
-  auto vec3_accessor = [&](const std::vector<float>& xyz) {
-    std::vector<double> mn(3, std::numeric_limits<double>::infinity()),
-        mx(3, -std::numeric_limits<double>::infinity());
-    for (size_t i = 0; i < xyz.size(); ++i)
-      mn[i % 3] = std::min<double>(mn[i % 3], xyz[i]), mx[i % 3] = std::max<double>(mx[i % 3], xyz[i]);
-    const int view = add_view(xyz.data(), xyz.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
-    return add_accessor(view, TINYGLTF_COMPONENT_TYPE_FLOAT, xyz.size() / 3, TINYGLTF_TYPE_VEC3, mn, mx);
-  };
-
+  detail::GltfBuilder b;
+  tinygltf::Model& model = b.model;
   tinygltf::Primitive prim;
   prim.mode = TINYGLTF_MODE_TRIANGLES;
   std::vector<float> pos(3 * nv);
   for (size_t i = 0; i < nv; ++i)
     for (int c = 0; c < 3; ++c) pos[3 * i + c] = static_cast<float>(rest.V(vert_of[i], c));
-  prim.attributes["POSITION"] = vec3_accessor(pos);
+  prim.attributes["POSITION"] = b.vec3_accessor(pos);
   if (uv) {
     std::vector<float> tex(2 * nv);
     for (size_t i = 0; i < nv; ++i) {
       tex[2 * i] = static_cast<float>(rest.UV(uv_of[i], 0));
       tex[2 * i + 1] = static_cast<float>(1.0 - rest.UV(uv_of[i], 1));  // back to glTF's top-left origin
     }
-    const int view = add_view(tex.data(), tex.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
     prim.attributes["TEXCOORD_0"] =
-        add_accessor(view, TINYGLTF_COMPONENT_TYPE_FLOAT, nv, TINYGLTF_TYPE_VEC2, {}, {});
+        b.float_accessor(tex, TINYGLTF_TYPE_VEC2, 2, TINYGLTF_TARGET_ARRAY_BUFFER, false);
   }
   {
-    const int view =
-        add_view(indices.data(), indices.size() * sizeof(uint32_t), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
-    prim.indices = add_accessor(view, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, indices.size(),
-                                TINYGLTF_TYPE_SCALAR, {}, {});
+    const int view = b.add_view(split.indices.data(), split.indices.size() * sizeof(uint32_t),
+                                TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    prim.indices = b.add_accessor(view, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, split.indices.size(),
+                                  TINYGLTF_TYPE_SCALAR);
   }
   // Morph targets: POSITION displacements (float32: the positions read back as rest + displacement).
   for (size_t f = 0; f < nframes; ++f) {
@@ -1078,7 +1018,7 @@ void write_gltf_morph_animation(const std::filesystem::path& path, const Mesh& r
     for (size_t i = 0; i < nv; ++i)
       for (int c = 0; c < 3; ++c)
         d[3 * i + c] = static_cast<float>(frames[f](vert_of[i], c) - static_cast<double>(pos[3 * i + c]));
-    prim.targets.push_back({{"POSITION", vec3_accessor(d)}});
+    prim.targets.push_back({{"POSITION", b.vec3_accessor(d)}});
   }
   tinygltf::Mesh mesh;
   mesh.name = name;
@@ -1088,9 +1028,9 @@ void write_gltf_morph_animation(const std::filesystem::path& path, const Mesh& r
   {
     tinygltf::Value::Array names;
     for (size_t f = 0; f < nframes; ++f) {
-      char b[32];
-      std::snprintf(b, sizeof b, "frame %04zu", f);
-      names.emplace_back(std::string(b));
+      char label[32];
+      std::snprintf(label, sizeof label, "frame %04zu", f);
+      names.emplace_back(std::string(label));
     }
     tinygltf::Value::Object extras;
     extras["targetNames"] = tinygltf::Value(std::move(names));
@@ -1111,14 +1051,10 @@ void write_gltf_morph_animation(const std::filesystem::path& path, const Mesh& r
   // The weights animation: STEP, key f at times[f], output one-hot on target f (nframes² floats).
   {
     std::vector<float> t(times.begin(), times.end());
-    const int tv = add_view(t.data(), t.size() * sizeof(float), 0);
-    const int input = add_accessor(tv, TINYGLTF_COMPONENT_TYPE_FLOAT, nframes, TINYGLTF_TYPE_SCALAR,
-                                   {t.front()}, {t.back()});
+    const int input = b.float_accessor(t, TINYGLTF_TYPE_SCALAR, 1, 0, true);
     std::vector<float> w(nframes * nframes, 0.0f);
     for (size_t f = 0; f < nframes; ++f) w[f * nframes + f] = 1.0f;
-    const int wv = add_view(w.data(), w.size() * sizeof(float), 0);
-    const int output =
-        add_accessor(wv, TINYGLTF_COMPONENT_TYPE_FLOAT, w.size(), TINYGLTF_TYPE_SCALAR, {}, {});
+    const int output = b.float_accessor(w, TINYGLTF_TYPE_SCALAR, 1, 0, false);
     tinygltf::AnimationSampler s;
     s.input = input;
     s.output = output;
@@ -1133,15 +1069,7 @@ void write_gltf_morph_animation(const std::filesystem::path& path, const Mesh& r
     a.channels.push_back(c);
     model.animations.push_back(a);
   }
-  while (bytes.size() % 4) bytes.push_back(0);
-  model.buffers.push_back(std::move(buffer));
-
-  tinygltf::TinyGLTF writer;
-  std::ostringstream os;
-  const bool glb = ext == ".glb";
-  if (!writer.WriteGltfSceneToStream(&model, os, !glb, glb))
-    throw Error(file + ": tinygltf could not serialise the model");
-  write_text_atomic(path, os.str());
+  b.write(path, ext == ".glb");
 }
 
 // ---- baked output read back ---------------------------------------------------------------------------

@@ -9,6 +9,8 @@
 
 #include <Eigen/Core>
 #include <chrono>
+#include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -16,10 +18,17 @@
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/mesh.hpp"
+#include "spinmotor/spin/pinned_cleanup.hpp"
 
 namespace spinmotor::python {
 
 namespace py = pybind11;
+
+/// spinmotor.PinnedCleanup (bound in spin.cpp; also returned by Rig.bind_cleanup in rig.cpp).
+struct PyCleanup {
+  std::unique_ptr<PinnedCleanup> cleanup;
+  std::unique_ptr<std::mutex> lock = std::make_unique<std::mutex>();
+};
 
 /// Registers spinmotor.Error (subclass of Exception, attribute .kind) and the translator of
 /// spinmotor::Error into it. Call first in the module init.

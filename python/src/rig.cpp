@@ -9,6 +9,7 @@
 #include "spinmotor/core/option_names.hpp"
 #include "spinmotor/deform/rig_skin.hpp"
 #include "spinmotor/mesh/gltf.hpp"
+#include "spinmotor/scene/rig_cleanup.hpp"
 #include "spinmotor/scene/rig_pose.hpp"
 
 namespace spinmotor::python {
@@ -174,6 +175,35 @@ Errors: spinmotor.Error for an animation out of range, an unknown blend, a non-r
           py::arg("t"), py::arg("animation") = 0, R"doc(
 skin_positions(t, animation=0) -> V (n, 3): the glTF skinning formula with plain 4×4 matrices and every
 influence (the reference the blends are compared with).
+)doc")
+      .def(
+          "bind_cleanup",
+          [](PyRig& r, double threshold, double margin, double pose_weight, const std::string& keep,
+             int max_iterations) {
+            scene::RigCleanupOptions o;
+            o.pin_threshold = threshold;
+            o.pin_margin = margin;
+            o.pose_weight = pose_weight;
+            o.cleanup.keep = parse_option<CleanupKeep>(keep, "keep: ");
+            o.cleanup.max_iterations = max_iterations;
+            PyCleanup c;
+            py::gil_scoped_release release;
+            const RigSkin skin = rig_skin(*r.rig);
+            scene::RigCleanup rc = scene::RigCleanup::bind(r.rig->mesh, skin.weights, skin.bones, o);
+            c.cleanup = std::make_unique<PinnedCleanup>(std::move(rc.cleanup));
+            return c;
+          },
+          py::arg("threshold") = scene::RigCleanupOptions{}.pin_threshold,
+          py::arg("margin") = scene::RigCleanupOptions{}.pin_margin,
+          py::arg("pose_weight") = scene::RigCleanupOptions{}.pose_weight,
+          py::arg("keep") = std::string(option_name(PinnedCleanupOptions{}.keep)),
+          py::arg("max_iterations") = PinnedCleanupOptions{}.max_iterations, R"doc(
+bind_cleanup(threshold=0.999, margin=-1, pose_weight=10, keep="auto", max_iterations=100) -> PinnedCleanup:
+the pose-keeping cleanup of this rig with the rig defaults (scene/rig_cleanup.hpp, the same as `spinmotor
+rig pose --cleanup pinned`): pins = vertices of one joint (weight >= threshold) farther than `margin`
+(< 0: per bone a quarter of its widest blend band) from every blended vertex; the soft parts held near the
+pose by the weights' attraction of strength pose_weight. Use .cleanup(rig.pose(t)) per frame.
+Errors: spinmotor.Error when no vertex qualifies as a pin, or for bad parameters.
 Errors: spinmotor.Error for an animation out of range or a non-finite t.
 )doc")
       .def(
@@ -184,24 +214,23 @@ Errors: spinmotor.Error for an animation out of range or a non-finite t.
                 r, pose_options(animation, blend, cleanup, pin_threshold, pin_margin, pose_weight, space));
           },
           py::arg("animation") = 0, py::arg("blend") = "lbs", py::arg("cleanup") = "none",
-          py::arg("pin_threshold") = RigCleanupOptions{}.pin_threshold,
-          py::arg("pin_margin") = RigCleanupOptions{}.pin_margin,
-          py::arg("pose_weight") = RigCleanupOptions{}.pose_weight, py::arg("space") = "mesh", R"doc(
+          py::arg("pin_threshold") = scene::RigCleanupOptions{}.pin_threshold,
+          py::arg("pin_margin") = scene::RigCleanupOptions{}.pin_margin,
+          py::arg("pose_weight") = scene::RigCleanupOptions{}.pose_weight, py::arg("space") = "mesh", R"doc(
 poser(animation=0, blend="lbs", cleanup="none", pin_threshold=0.999, pin_margin=-1, pose_weight=10,
       space="mesh")
   -> RigPoser: the skin (and, with cleanup="pinned", the pose-keeping cleanup) bound once
   (scene/rig_pose.hpp, as `spinmotor rig pose`), posed per time with RigPoser.pose(t).
 
 Inputs:  animation: index into animations, -1 the rest pose; blend: lbs, dlb, log or pivot-log;
-         cleanup: none or pinned (scene/rig_cleanup.hpp, as `rig pose --cleanup pinned`: the
-         vertices of one joint with weight >= pin_threshold, farther than pin_margin from any blended
-         vertex, stay put (pin_margin < 0: per bone, a quarter of the widest blend band of its
-         joints); pose_weight >= 0: the attraction holding the soft parts near the skinned pose);
-         space: mesh (the file's POSITION frame) or scene (the mesh node's global matrix applied).
+         cleanup: none or pinned (the vertices of one joint with weight >= pin_threshold, farther
+         than pin_margin from any blended vertex, stay put; pin_margin < 0: per bone, a quarter of
+         the widest blend band of its joints; pose_weight: the attraction holding the soft parts near the
+         skinned pose, scene/rig_cleanup.hpp); space: mesh (the file's POSITION frame) or scene (the
+         mesh node's global matrix applied).
 Output:  a RigPoser.
 Errors:  spinmotor.Error for an unknown name (listing the valid ones), an animation out of range, a
-         pin_threshold outside [0.5, 1], a negative pose_weight, no pin found, a skeleton or mesh the
-         deformers refuse.
+         pin_threshold outside [0.5, 1], no pin found, a skeleton or mesh the deformers refuse.
 )doc")
       .def(
           "bake",
@@ -239,9 +268,9 @@ Errors:  spinmotor.Error for an unknown name (listing the valid ones), an animat
           },
           py::arg("path"), py::arg("frames") = py::none(), py::arg("times") = py::none(),
           py::arg("animation") = 0, py::arg("blend") = "lbs", py::arg("cleanup") = "none",
-          py::arg("pin_threshold") = RigCleanupOptions{}.pin_threshold,
-          py::arg("pin_margin") = RigCleanupOptions{}.pin_margin,
-          py::arg("pose_weight") = RigCleanupOptions{}.pose_weight, py::arg("space") = "mesh",
+          py::arg("pin_threshold") = scene::RigCleanupOptions{}.pin_threshold,
+          py::arg("pin_margin") = scene::RigCleanupOptions{}.pin_margin,
+          py::arg("pose_weight") = scene::RigCleanupOptions{}.pose_weight, py::arg("space") = "mesh",
           py::arg("name") = py::none(), R"doc(
 bake(path, frames=None, times=None, animation=0, blend="lbs", cleanup="none", pin_threshold=0.999,
      pin_margin=-1, pose_weight=10, space="mesh", name=None) -> dict(frames (k, n, 3), times (k,))

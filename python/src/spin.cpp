@@ -29,10 +29,6 @@ struct PySnap {
   CleanupKeep pinned_keep = CleanupKeep::Auto;
   std::unique_ptr<std::mutex> lock = std::make_unique<std::mutex>();
 };
-struct PyCleanup {
-  std::unique_ptr<PinnedCleanup> cleanup;
-  std::unique_ptr<std::mutex> lock = std::make_unique<std::mutex>();
-};
 struct PySpin {
   std::unique_ptr<SpinTransform> st;
   std::unique_ptr<std::mutex> lock = std::make_unique<std::mutex>();
@@ -120,28 +116,38 @@ The pose-keeping conformal cleanup (spin/pinned_cleanup.hpp): the pinned vertice
 edit put them; the others are placed as conformally as possible (low quasi-conformal error Q against the
 rest mesh) at the rest volume (closed meshes) or area (open ones).
 
-PinnedCleanup(V, F, pins, keep="auto", max_iterations=100, tolerance=1e-4)
+PinnedCleanup(V, F, pins, keep="auto", max_iterations=100, tolerance=1e-4, pose_weight=0.0,
+              attraction=None)
   V (n, 3), F (m, 3): the rest mesh; pins: vertex indices (order and repeats do not matter). keep: auto
-  (volume if closed, else area), volume, area or none. All factorization happens here, once.
+  (volume if closed, else area), volume, area or none. pose_weight: gamma >= 0 of the pose attraction
+  that holds the free vertices near the edit (0: the pins only); attraction: n weights in [0, 1] per
+  vertex (None: all 1), e.g. pin_attraction_from_weights(W). All factorization happens here, once.
+  For a glTF rig, Rig.bind_cleanup() binds one with the rig defaults.
 Errors: spinmotor.Error for empty or out-of-range pins, a connected component without a pin (named),
-keep="volume" on an open mesh, a degenerate rest face; numerical Error if the factorization fails.
+keep="volume" on an open mesh, a degenerate rest face, a negative pose_weight, attraction weights of
+the wrong count or outside [0, 1]; numerical Error if the factorization fails.
 )doc")
         .def(py::init([](py::object V, py::object F, py::object pins, const std::string& keep,
-                         int max_iterations, double tolerance) {
+                         int max_iterations, double tolerance, double pose_weight, py::object attraction) {
                const Mesh rest = to_mesh(V, F);
                const Eigen::VectorXi p = to_int_vector(pins, "pins");
+               const Eigen::VectorXd a = attraction.is_none()
+                                             ? Eigen::VectorXd()
+                                             : to_vector(attraction, "attraction", rest.V.rows());
                PinnedCleanupOptions o;
                o.keep = parse_option<CleanupKeep>(keep, "keep: ");
                o.max_iterations = max_iterations;
                o.tolerance = tolerance;
+               o.pose_weight = pose_weight;
                PyCleanup c;
                py::gil_scoped_release release;
-               c.cleanup = std::make_unique<PinnedCleanup>(PinnedCleanup::bind(rest, p, o));
+               c.cleanup = std::make_unique<PinnedCleanup>(PinnedCleanup::bind(rest, p, o, a));
                return c;
              }),
              py::arg("V"), py::arg("F"), py::arg("pins"),
              py::arg("keep") = std::string(option_name(def.keep)),
-             py::arg("max_iterations") = def.max_iterations, py::arg("tolerance") = def.tolerance)
+             py::arg("max_iterations") = def.max_iterations, py::arg("tolerance") = def.tolerance,
+             py::arg("pose_weight") = def.pose_weight, py::arg("attraction") = py::none())
         .def(
             "cleanup",
             [](PyCleanup& c, py::object V_edit, bool full) -> py::object {
@@ -194,6 +200,17 @@ total_ms. V_edit (n, 3): the edit, same connectivity as the rest mesh. No factor
 pins_from_weights(V, W, threshold=0.999, margin=0.0) -> pins: the vertices whose dominant skin weight
 (W: n×B) is at least `threshold` and that lie farther than `margin` from every vertex below it (the
 bones' rigid parts, each joint left room). Errors: spinmotor.Error naming the bad row or parameter.
+)doc");
+    m.def(
+        "pin_attraction_from_weights",
+        [](py::object W, double threshold, double low) {
+          return to_numpy(pin_attraction_from_weights(to_matrix(W, "W", -1, -1), threshold, low));
+        },
+        py::arg("W"), py::arg("threshold") = 0.999, py::arg("low") = 0.5, R"doc(
+pin_attraction_from_weights(W, threshold=0.999, low=0.5) -> a (n,): the per-vertex weights of the
+cleanup's pose attraction from skin weights W (n×B): smoothstep of the dominant weight between `low`
+(0: the middle of a joint, left free) and `threshold` (1: rigid parts). Errors: spinmotor.Error naming
+the bad row or parameter.
 )doc");
   }
 

@@ -1,6 +1,7 @@
 #include "spinmotor/scene/deformer_registry.hpp"
 
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/deform/rig_pins.hpp"
 
 namespace spinmotor::scene {
 
@@ -57,14 +58,19 @@ std::optional<Eigen::Vector3d> SceneDeformer::control_anchor(const std::string& 
   return std::nullopt;
 }
 
-void SceneDeformer::pose(const Pose& pose, Eigen::MatrixXd& V_out) {
+void SceneDeformer::motors(const Pose& pose, std::vector<ga::Mot>& out) const {
+  out.resize(controls().size());
   if (motors_of_) {
-    motors_of_(pose, motors_);
+    motors_of_(pose, out);
   } else {
     const auto& c = controls();
-    for (std::size_t j = 0; j < c.size(); ++j) motors_[j] = pose.motor(c[j].name);
+    for (std::size_t j = 0; j < c.size(); ++j) out[j] = pose.motor(c[j].name);
   }
+}
+
+void SceneDeformer::pose(const Pose& pose, Eigen::MatrixXd& V_out) {
   try {
+    motors(pose, motors_);
     d_.pose(motors_, V_out);
   } catch (const Error& e) {
     const std::string msg = e.what();
@@ -76,13 +82,8 @@ void SceneDeformer::pose(const Pose& pose, Eigen::MatrixXd& V_out) {
 nlohmann::json SceneDeformer::report(const Pose& pose, const Eigen::MatrixXd& V_out) const {
   nlohmann::json r = nlohmann::json::object();
   if (report_) {
-    std::vector<ga::Mot> m(motors_.size());
-    if (motors_of_) {
-      motors_of_(pose, m);
-    } else {
-      const auto& c = controls();
-      for (std::size_t j = 0; j < c.size(); ++j) m[j] = pose.motor(c[j].name);
-    }
+    std::vector<ga::Mot> m;
+    motors(pose, m);
     r = report_(d_, m, V_out);
   }
   if (!r.contains("max_handle_error")) r["max_handle_error"] = nullptr;
@@ -90,6 +91,17 @@ nlohmann::json SceneDeformer::report(const Pose& pose, const Eigen::MatrixXd& V_
 }
 
 nlohmann::json SceneDeformer::bind_report() const { return bind_report_; }
+
+std::vector<int> skin_pins(const Mesh& rest, const SkinBinding& skin, double threshold, double margin) {
+  const Eigen::VectorXd margins = margin >= 0
+                                      ? Eigen::VectorXd::Constant(skin.weights.cols(), margin)
+                                      : default_pin_margins(rest.V, skin.weights, skin.bones, threshold);
+  const Eigen::VectorXi pins = pins_from_weights(rest.V, skin.weights, threshold, margins);
+  if (pins.size() == 0)
+    throw Error("no vertex has a bone weight ≥ " + std::to_string(threshold) +
+                " far enough from a blended vertex (lower pin_threshold or pin_margin)");
+  return {pins.data(), pins.data() + pins.size()};
+}
 
 double max_handle_error(const Eigen::MatrixXd& V_rest, const Eigen::MatrixXd& V,
                         std::span<const Handle> handles, std::span<const ga::Mot> motors) {

@@ -13,6 +13,7 @@
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/deform/delta_mush.hpp"
 #include "spinmotor/deform/direct_delta_mush.hpp"
+#include "spinmotor/deform/rig_skin.hpp"
 #include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/scene/deformer_registry.hpp"
 
@@ -72,9 +73,23 @@ Eigen::MatrixXd read_json_weights(const Scene& s, const std::filesystem::path& p
   return W;
 }
 
-}  // namespace
+/// Figures of a rig scene for the metrics: the file, its counts and the animation.
+nlohmann::json rig_report(const Scene& s) {
+  if (!s.rig) return nlohmann::json::object();
+  const GltfRig& g = *s.rig->gltf;
+  nlohmann::json r = {{"file", s.rig->file.string()},
+                      {"joints", g.num_joints()},
+                      {"file_vertices", g.file_vertices},
+                      {"renormalised_rows", g.renormalised_rows}};
+  if (s.rig->animation >= 0) {
+    const GltfAnimation& a = g.animations[s.rig->animation];
+    r["animation"] = {{"name", a.name}, {"index", s.rig->animation}, {"start", a.start}, {"end", a.end}};
+  }
+  return {{"rig", r}};
+}
 
-std::unique_ptr<SceneDeformer> bind_skin(const Scene& s) {
+/// The skeleton of a scene file's `skeleton` block.
+std::vector<Bone> scene_bones(const Scene& s) {
   if (!s.doc.contains("skeleton")) throw s.error("/skeleton", "the skin deformer needs a skeleton");
   const nlohmann::json& jb = s.doc["skeleton"]["bones"];
   std::vector<Bone> bones;
@@ -101,28 +116,59 @@ std::unique_ptr<SceneDeformer> bind_skin(const Scene& s) {
   } catch (const Error& e) {
     throw s.error("/skeleton", e.what());
   }
+  return bones;
+}
+
+}  // namespace
+
+std::unique_ptr<SceneDeformer> bind_skin(const Scene& s) {
+  // The skeleton and (by default) the weights: a glTF rig's joints and skin, or the scene's skeleton.
+  std::vector<Bone> bones;
+  Eigen::MatrixXd rig_weights;
+  if (s.rig) {
+    try {
+      RigSkin rs = rig_skin(*s.rig->gltf);
+      bones = std::move(rs.bones);
+      rig_weights = Eigen::MatrixXd(rs.weights);
+    } catch (const Error& e) {
+      throw s.error("/rig/gltf", e.what());
+    }
+  } else {
+    bones = scene_bones(s);
+  }
   const nlohmann::json& b = s.deformer;
   SkinDeformer::Options o;
   o.blend = deformer_option(s, "blend", o.blend);
-  const std::string weights = b.value("weights", "harmonic");
+  const std::string weights = b.value("weights", s.rig ? "" : "harmonic");
   Eigen::MatrixXd W;
   try {
-    if (weights == "harmonic") {
+    if (weights.empty()) {
+      W = std::move(rig_weights);  // the glTF file's skin
+    } else if (weights == "harmonic") {
       W = bone_harmonic_weights(s.mesh, bones, b.value("joint_fraction", 0.25));
     } else {
       const std::filesystem::path path = s.dir / weights;
       W = path.extension() == ".json" ? read_json_weights(s, path, bones)
                                       : read_skin_weights(path, bones, s.mesh.V.rows());
     }
-    // A pose entry is the world motion of its bone; a bone without one keeps its parent's.
-    auto motors = [bones](const Pose& pose, std::vector<ga::Mot>& out) {
+    // A pose entry is the world motion of its bone; a bone without one keeps its parent's. A rig's
+    // frame is the animation at pose.time (the skinning transforms, rig_skin.hpp) with those motions
+    // applied on top: bone j moves by E_j S_j(t).
+    std::shared_ptr<const GltfRig> gltf = s.rig ? s.rig->gltf : nullptr;
+    const int anim = s.rig ? s.rig->animation : -1;
+    auto motors = [bones, gltf, anim](const Pose& pose, std::vector<ga::Mot>& out) {
       std::vector<ga::Mot> given(bones.size(), ga::Mot(1, 0, 0, 0, 0, 0, 0, 0));
       std::vector<bool> has(bones.size(), false);
       for (std::size_t j = 0; j < bones.size(); ++j)
         if (const auto it = pose.motors.find(bones[j].name); it != pose.motors.end())
           given[j] = it->second, has[j] = true;
       out = inherit_bone_motions(bones, given, has);
+      if (gltf && pose.time) {
+        const std::vector<ga::Mot> S = rig_pose_motors(*gltf, anim, *pose.time);
+        for (std::size_t j = 0; j < bones.size(); ++j) out[j] = ga::normalize(out[j] * S[j]);
+      }
     };
+    SkinBinding binding{bones, W};
     auto report = [n = bones.size()](const AnyDeformer&, std::span<const ga::Mot>, const Eigen::MatrixXd&) {
       return nlohmann::json{{"max_handle_error", nullptr}, {"skin", {{"bones", n}}}};
     };
@@ -136,19 +182,25 @@ std::unique_ptr<SceneDeformer> bind_skin(const Scene& s) {
       DeltaMushDeformer::Options mo;
       mo.blend = o.blend;
       mo.iterations = b.value("mush_iterations", mo.iterations);
-      return std::make_unique<SceneDeformer>(s, DeltaMushDeformer::bind(s.mesh, bones, W, mo), report,
-                                             nlohmann::json{}, motors);
+      auto d = std::make_unique<SceneDeformer>(s, DeltaMushDeformer::bind(s.mesh, bones, W, mo), report,
+                                               rig_report(s), motors);
+      d->set_skin(std::move(binding));
+      return d;
     }
     if (mush == MushKind::Direct) {
       if (b.contains("blend"))
         throw s.error("/deformer/blend", "Direct Delta Mush blends the bone matrices itself: remove `blend`");
       DirectDeltaMushDeformer::Options mo;
       mo.iterations = b.value("mush_iterations", mo.iterations);
-      return std::make_unique<SceneDeformer>(s, DirectDeltaMushDeformer::bind(s.mesh, bones, W, mo), report,
-                                             nlohmann::json{}, motors);
+      auto d = std::make_unique<SceneDeformer>(s, DirectDeltaMushDeformer::bind(s.mesh, bones, W, mo), report,
+                                               rig_report(s), motors);
+      d->set_skin(std::move(binding));
+      return d;
     }
-    return std::make_unique<SceneDeformer>(s, SkinDeformer::bind(s.mesh, bones, W, o), report,
-                                           nlohmann::json{}, motors);
+    auto d = std::make_unique<SceneDeformer>(s, SkinDeformer::bind(s.mesh, bones, W, o), report,
+                                             rig_report(s), motors);
+    d->set_skin(std::move(binding));
+    return d;
   } catch (const Error& e) {
     const std::string msg = e.what();
     if (msg.rfind(s.name() + ":", 0) == 0) throw;

@@ -5,7 +5,7 @@
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/deform/rig_pins.hpp"
 
-namespace spinmotor {
+namespace spinmotor::scene {
 
 RigCleanup RigCleanup::bind(const Mesh& rest, const Eigen::MatrixXd& W, std::span<const Bone> bones,
                             const RigCleanupOptions& options) {
@@ -39,4 +39,4 @@ RigCleanup RigCleanup::bind(const Mesh& rest, const Eigen::SparseMatrix<double>&
   return bind(rest, Eigen::MatrixXd(W), bones, options);
 }
 
-}  // namespace spinmotor
+}  // namespace spinmotor::scene

@@ -23,8 +23,6 @@ const RigPoseOptions& checked(const GltfRig& rig, const RigPoseOptions& o) {
     if (!(c.pin_threshold >= 0.5 && c.pin_threshold <= 1.0))
       throw Error("rig: pin threshold " + std::to_string(c.pin_threshold) + " outside [0.5, 1]");
     if (!std::isfinite(c.pin_margin)) throw Error("rig: pin margin is not finite");
-    if (!(c.pose_weight >= 0 && std::isfinite(c.pose_weight)))
-      throw Error("rig: pose weight " + std::to_string(c.pose_weight) + " is not a finite number >= 0");
   }
   return o;
 }
@@ -36,6 +34,8 @@ RigPoser::RigPoser(const GltfRig& rig, const RigPoseOptions& options)
   if (options_.cleanup == RigCleanupMode::None) return;
   const RigSkin skin = rig_skin(rig);
   cleanup_.emplace(RigCleanup::bind(rig.mesh, skin.weights, skin.bones, options_.cleanup_options));
+  pins_ = cleanup_->pins;
+  margins_ = cleanup_->margins;
 }
 
 Eigen::MatrixXd RigPoser::pose_mesh_space(double t) {

@@ -14,6 +14,7 @@
 #include "spinmotor/mesh/metrics.hpp"
 #include "spinmotor/mesh/metrics/json.hpp"
 #include "spinmotor/scene/deformer_registry.hpp"
+#include "spinmotor/scene/rig_cleanup.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
 #include "spinmotor/spin/curvature_spin_flow.hpp"
 #include "spinmotor/spin/pinned_cleanup.hpp"
@@ -65,7 +66,21 @@ RunResult run_scene(const Scene& scene, const RunProgress& progress) {
       PinnedCleanupOptions o;
       o.keep = scene.snap.keep;
       o.max_iterations = scene.snap.iterations;
-      cleaner.emplace(PinnedCleanup::bind(scene.mesh, pins, o));
+      if (scene.snap.pin_weights) {
+        // The skin's rigid parts pinned and the rest attracted by its weights: the rig defaults
+        // (rig_cleanup.hpp; scene.cpp checked the deformer is a skin).
+        if (!d->skin()) throw Error("\"pins\": \"weights\" needs a skin deformer");
+        RigCleanupOptions ro;
+        ro.pin_threshold = scene.snap.pin_threshold;
+        ro.pin_margin = scene.snap.pin_margin;
+        ro.pose_weight = scene.snap.pose_weight.value_or(ro.pose_weight);
+        ro.cleanup = o;
+        cleaner.emplace(
+            std::move(RigCleanup::bind(scene.mesh, d->skin()->weights, d->skin()->bones, ro).cleanup));
+      } else {
+        o.pose_weight = scene.snap.pose_weight.value_or(0.0);
+        cleaner.emplace(PinnedCleanup::bind(scene.mesh, pins, o));
+      }
     } catch (const Error& e) {
       throw Error(scene.name() + ": /snap: " + e.what(), e.kind());
     }
@@ -100,7 +115,8 @@ RunResult run_scene(const Scene& scene, const RunProgress& progress) {
               {"q_mean", detail::finite_or_null(m.q_mean)},
               {"q_max", detail::finite_or_null(m.q_max)},
               {"area_distortion", detail::finite_or_null(m.area_distortion)}};
-    if (scene.animated) j["frame"] = f;
+    if (scene.animated) j["frame"] = scene.first_frame + static_cast<int>(f);
+    if (scene.frames[f].time) j["time"] = *scene.frames[f].time;
     const json extra = d->report(scene.frames[f], fr.V);  // named: items() of a temporary would dangle
     for (const auto& [k, v] : extra.items()) j[k] = v;
     for (const auto& [k, v] : bind_extra.items()) j[k] = v;
@@ -121,6 +137,8 @@ RunResult run_scene(const Scene& scene, const RunProgress& progress) {
       j["snap"] = {{"mode", "pinned"},
                    {"pins", cleaner->pins().size()},
                    {"keep", option_name(pr.kept)},
+                   {"pose_weight", scene.snap.pose_weight.value_or(
+                                       scene.snap.pin_weights ? RigCleanupOptions{}.pose_weight : 0.0)},
                    {"q_mean", detail::finite_or_null(ms.q_mean)},
                    {"q_max", detail::finite_or_null(ms.q_max)},
                    {"area_distortion", detail::finite_or_null(ms.area_distortion)},
@@ -209,7 +227,7 @@ std::filesystem::path output_path(const Scene& scene, const std::filesystem::pat
   std::filesystem::path p = spec;
   if (scene.animated) {
     char num[16];
-    std::snprintf(num, sizeof num, ".%04d", frame);
+    std::snprintf(num, sizeof num, ".%04d", scene.first_frame + frame);
     p.replace_filename(spec.stem().string() + num + spec.extension().string());
   }
   if (p.is_relative()) p = (out_dir ? *out_dir : scene.dir) / p;

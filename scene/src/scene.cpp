@@ -173,6 +173,62 @@ Mesh make_mesh(const Scene& s, const json& m) {
   throw s.error("/mesh/generate", "unknown generator '" + g + "'");
 }
 
+// The `rig` block (docs/scene.md): read the glTF file, pick the animation, list the frame times.
+RigSpec make_rig(const Scene& s, const json& r) {
+  RigSpec rig;
+  rig.file = r["gltf"].get<std::string>();
+  if (rig.file.is_relative()) rig.file = s.dir / rig.file;
+  try {
+    rig.gltf = std::make_shared<const GltfRig>(read_gltf(rig.file));
+  } catch (const Error& e) {
+    throw s.error("/rig/gltf", e.what());
+  }
+  const GltfRig& g = *rig.gltf;
+  const int count = static_cast<int>(g.animations.size());
+  if (auto a = r.find("animation"); a != r.end()) {
+    if (count == 0) throw s.error("/rig/animation", rig.file.filename().string() + " has no animation");
+    if (a->is_string()) {
+      std::string names;
+      for (int k = 0; k < count && rig.animation < 0; ++k)
+        if (g.animations[k].name == a->get<std::string>()) rig.animation = k;
+      for (const auto& an : g.animations) names += (names.empty() ? "'" : ", '") + an.name + "'";
+      if (rig.animation < 0)
+        throw s.error("/rig/animation",
+                      "no animation named '" + a->get<std::string>() + "' (the file has " + names + ")");
+    } else {
+      rig.animation = a->get<int>();
+      if (rig.animation >= count)
+        throw s.error("/rig/animation", "animation " + std::to_string(rig.animation) +
+                                            " out of range (the file has " + std::to_string(count) + ")");
+    }
+  } else if (count > 0) {
+    rig.animation = 0;
+  }
+  const bool time = r.contains("time"), frames = r.contains("frames"), fps = r.contains("fps");
+  if (time && frames) throw s.error("/rig/frames", "give `time` (one frame) or `frames`, not both");
+  if ((time || frames) && rig.animation < 0)
+    throw s.error(time ? "/rig/time" : "/rig/frames",
+                  rig.file.filename().string() + " has no animation to pose");
+  if (fps && !(frames && r["frames"].is_array()))
+    throw s.error("/rig/fps", "`fps` goes with `frames`: [first, last] (frame numbers)");
+  if (time) {
+    const double t = r["time"].get<double>();
+    if (!std::isfinite(t)) throw s.error("/rig/time", "not finite");
+    rig.times.push_back(t);
+  } else if (frames && r["frames"].is_array()) {
+    const int first = r["frames"][0].get<int>(), last = r["frames"][1].get<int>();
+    if (last < first) throw s.error("/rig/frames", "the last frame comes before the first");
+    if (last - first >= 100000) throw s.error("/rig/frames", "more than 100000 frames");
+    if (!fps) throw s.error("/rig/frames", "frames [first, last] need `fps` (frame k is at time k / fps)");
+    const double rate = r["fps"].get<double>();
+    for (int k = first; k <= last; ++k) rig.times.push_back(k / rate);
+  } else if (frames) {
+    const int n = r["frames"].get<int>();
+    for (int f = 0; f < n; ++f) rig.times.push_back(gltf_frame_time(g.animations[rig.animation], f, n));
+  }
+  return rig;
+}
+
 Handle select_handle(const Scene& s, const json& h, const std::string& at) {
   const Eigen::MatrixXd& V = s.mesh.V;
   const Eigen::Index n = V.rows();
@@ -238,10 +294,21 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
   }
   s.doc = doc;
 
-  // Mesh.
-  s.mesh = make_mesh(s, doc["mesh"]);
-  s.mesh_source =
-      doc["mesh"].is_string() ? doc["mesh"].get<std::string>() : doc["mesh"]["generate"].get<std::string>();
+  // Mesh: a mesh file or generator, or the surface of a glTF rig.
+  if (doc.contains("mesh") == doc.contains("rig"))
+    throw s.error(doc.contains("rig") ? "/rig" : "/mesh",
+                  doc.contains("rig")
+                      ? "give `mesh` or `rig`, not both"
+                      : "missing `mesh` (a mesh file or generator) or `rig` (a glTF character)");
+  if (doc.contains("rig")) {
+    s.rig = make_rig(s, doc["rig"]);
+    s.mesh = s.rig->gltf->mesh;
+    s.mesh_source = doc["rig"]["gltf"].get<std::string>();
+  } else {
+    s.mesh = make_mesh(s, doc["mesh"]);
+    s.mesh_source =
+        doc["mesh"].is_string() ? doc["mesh"].get<std::string>() : doc["mesh"]["generate"].get<std::string>();
+  }
   try {
     require(s.mesh, {.finite = true}, "deform");
   } catch (const Error& e) {
@@ -275,14 +342,30 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
   // Poses.
   if (doc.contains("pose") && doc.contains("frames"))
     throw s.error("/frames", "give either `pose` or `frames`, not both");
-  if (auto it = doc.find("frames"); it != doc.end()) {
+  if (s.rig) {
+    // One frame per animation time (or the rest pose); `pose` entries are edits on every frame.
+    if (doc.contains("frames"))
+      throw s.error("/frames", "a `rig` scene takes its frames from the animation (rig.time or rig.frames)");
+    if (doc.contains("skeleton"))
+      throw s.error("/skeleton", "a `rig` scene takes its skeleton from the glTF file");
+    if (s.deformer["type"] != "skin")
+      throw s.error("/deformer/type", "a `rig` scene is posed by the skin deformer (\"type\": \"skin\")");
+    const Pose edits = doc.contains("pose") ? make_pose(s, doc["pose"], "/pose") : Pose{{}, "/pose", {}};
+    s.animated = doc["rig"].contains("frames");
+    if (s.animated && doc["rig"]["frames"].is_array()) s.first_frame = doc["rig"]["frames"][0].get<int>();
+    if (s.rig->times.empty()) s.frames.push_back(edits);
+    for (double t : s.rig->times) {
+      s.frames.push_back(edits);
+      s.frames.back().time = t;
+    }
+  } else if (auto it = doc.find("frames"); it != doc.end()) {
     s.animated = true;
     for (std::size_t f = 0; f < it->size(); ++f)
       s.frames.push_back(make_pose(s, (*it)[f], "/frames/" + std::to_string(f)));
   } else if (auto p = doc.find("pose"); p != doc.end()) {
     s.frames.push_back(make_pose(s, *p, "/pose"));
   } else {
-    s.frames.push_back(Pose{{}, "/pose"});
+    s.frames.push_back(Pose{{}, "/pose", {}});
   }
 
   // IK.
@@ -333,14 +416,28 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
     s.snap.steps = value_or(*it, "steps", 4);
     s.snap.area_constraint = value_or(*it, "area_constraint", 0.0);
     if (!(s.snap.mode == SnapMode::Free) && (it->contains("tradeoff") || it->contains("smooth_rho")))
-      throw s.error("/snap",
-                    "`tradeoff` and `smooth_rho` belong to mode \"free\"; mode \"shape\" takes `steps` and "
-                    "`area_constraint`, mode \"pinned\" takes `pins`, `keep` and `iterations`");
+      throw s.error(
+          "/snap",
+          "`tradeoff` and `smooth_rho` belong to mode \"free\"; mode \"shape\" takes `steps` and "
+          "`area_constraint`, mode \"pinned\" takes `pins`, `keep`, `iterations` and `pose_weight`");
     if (!shape && (it->contains("steps") || it->contains("area_constraint")))
       throw s.error("/snap", "`steps` and `area_constraint` belong to mode \"shape\"");
-    if (!pinned && (pins || it->contains("keep") || it->contains("iterations")))
-      throw s.error("/snap", "`pins`, `keep` and `iterations` belong to mode \"pinned\"");
-    if (pinned) {
+    if (!pinned &&
+        (pins || it->contains("keep") || it->contains("iterations") || it->contains("pose_weight")))
+      throw s.error("/snap", "`pins`, `keep`, `iterations` and `pose_weight` belong to mode \"pinned\"");
+    const bool weights = pins && (*it)["pins"] == "weights";
+    for (const char* key : {"pin_threshold", "pin_margin"})
+      if (it->contains(key) && !weights)
+        throw s.error(std::string("/snap/") + key, "belongs to \"pins\": \"weights\"");
+    if (pinned && weights) {
+      // Pins: the rigid parts of the skin's weights (found when the skin deformer binds, run.cpp).
+      if (s.deformer_type != "skin")
+        throw s.error("/snap/pins",
+                      "\"weights\" pins the rigid parts of a skin: the deformer must be \"skin\"");
+      s.snap.pin_weights = true;
+      s.snap.pin_threshold = value_or(*it, "pin_threshold", s.snap.pin_threshold);
+      s.snap.pin_margin = value_or(*it, "pin_margin", s.snap.pin_margin);
+    } else if (pinned) {
       // Pins: "handles" (every handle's vertices) or a list of handle names.
       const nlohmann::json p = pins ? (*it)["pins"] : nlohmann::json("handles");
       if (p.is_string()) {
@@ -352,6 +449,8 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
       }
       if (s.snap.pin_handles.empty())
         throw s.error("/snap/pins", "mode \"pinned\" needs at least one handle to pin (this scene has none)");
+    }
+    if (pinned) {
       if (it->contains("keep")) {
         try {
           s.snap.keep = parse_option<CleanupKeep>((*it)["keep"].get<std::string>());
@@ -360,6 +459,7 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
         }
       }
       s.snap.iterations = value_or(*it, "iterations", s.snap.iterations);
+      if (it->contains("pose_weight")) s.snap.pose_weight = value_or(*it, "pose_weight", 0.0);
     }
   }
 

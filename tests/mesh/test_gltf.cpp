@@ -1031,9 +1031,10 @@ TEST_CASE("spinmotor rig on CesiumMan: info numbers and a baked glb") {
     REQUIRE(r.code == 0);
     const GltfRig rig = spinmotor::read_gltf(fs::path(kRigs) / "CesiumMan.gltf");
     const spinmotor::RigSkin skin = spinmotor::rig_skin(rig);
-    spinmotor::RigCleanupOptions o;
+    spinmotor::scene::RigCleanupOptions o;
     o.pose_weight = gamma;
-    spinmotor::RigCleanup rc = spinmotor::RigCleanup::bind(rig.mesh, skin.weights, skin.bones, o);
+    spinmotor::scene::RigCleanup rc =
+        spinmotor::scene::RigCleanup::bind(rig.mesh, skin.weights, skin.bones, o);
     Eigen::MatrixXd E, V;
     spinmotor::bind_rig(rig, spinmotor::SkinBlend::LBS).pose(spinmotor::rig_pose_motors(rig, 0, 1.0), E);
     rc(E, V);

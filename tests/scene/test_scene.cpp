@@ -347,10 +347,21 @@ TEST_CASE("scene snap mode pinned: the handles stay where the deformer put them,
   const Scene one = parse_scene(doc, kScenes, "one.json");
   CHECK(one.snap.pin_handles == std::vector<int>{0});
   CHECK(one.snap.iterations == 5);
+  CHECK(!one.snap.pose_weight);
 
-  for (const char* bad : {R"({"pins": ["nope"]})", R"({"mode": "pinned", "tradeoff": 1})",
-                          R"({"pins": "handles", "keep": "mass"})", R"({"mode": "free", "pins": "handles"})",
-                          R"({"pins": []})"}) {
+  // "pose_weight": the pose attraction holds the free region nearer the deformer's result.
+  doc["snap"] = {{"pins", "handles"}, {"pose_weight", 10}};
+  const Scene held = parse_scene(doc, kScenes, "held.json");
+  CHECK(held.snap.pose_weight == 10);
+  const RunResult hr = run_scene(held);
+  const FrameResult& hf = hr.frames[0];
+  CHECK(hf.metrics["snap"]["pose_weight"] == 10.0);
+  CHECK((hf.V - hf.V_unsnapped).norm() < (fr.V - fr.V_unsnapped).norm());
+
+  for (const char* bad :
+       {R"({"pins": ["nope"]})", R"({"mode": "pinned", "tradeoff": 1})",
+        R"({"pins": "handles", "keep": "mass"})", R"({"mode": "free", "pins": "handles"})", R"({"pins": []})",
+        R"({"pins": "handles", "pose_weight": -1})", R"({"mode": "free", "pose_weight": 1})"}) {
     INFO(bad);
     doc["snap"] = json::parse(bad);
     CHECK_THROWS_WITH(parse_scene(doc, kScenes, "bad.json"), Catch::Contains("/snap"));

@@ -27,6 +27,8 @@
 #include "spinmotor/spin/pinned_cleanup.hpp"
 
 using namespace spinmotor;
+using spinmotor::scene::RigCleanup;
+using spinmotor::scene::RigCleanupOptions;
 namespace fs = std::filesystem;
 
 namespace {
@@ -604,6 +606,21 @@ TEST_CASE("snap --pin: the pinned mode end to end, bad pin files exit 2 without 
       run_cli(tmp.path, base + tmp.file("out2.obj") + " --mode pinned --pin " + tmp.file("pins.txt"));
   CHECK(h.code == 0);
   CHECK_THAT(h.out, Catch::Contains("snap (pinned)") && Catch::Contains("volume ratio"));
+  // --pose-weight: the library's uniform attraction (a_i = 1), bit for bit, and nearer the edit.
+  const Run g = run_cli(
+      tmp.path, base + tmp.file("out3.obj") + " --pin " + tmp.file("pins.txt") + " --pose-weight 10 --json");
+  REQUIRE(g.code == 0);
+  CHECK(nlohmann::json::parse(g.out)["pose_weight"] == 10.0);
+  {
+    PinnedCleanupOptions o;
+    o.pose_weight = 10;
+    PinnedCleanup pc = PinnedCleanup::bind(a.mesh, pins, o);
+    Eigen::MatrixXd V;
+    pc.cleanup(edit.V, V);
+    const Eigen::MatrixXd cli = read_mesh(tmp.path / "out3.obj").V;
+    CHECK((cli - V).cwiseAbs().maxCoeff() <= 1e-12 * diagonal(V));
+    CHECK((V - edit.V).rowwise().squaredNorm().sum() < (out.V - edit.V).rowwise().squaredNorm().sum());
+  }
   // Bad pin files: out of range, empty, unreadable, not a number; --mode pinned without --pin; --pin
   // with another mode. Exit 2, the problem named, nothing written.
   {
@@ -621,6 +638,7 @@ TEST_CASE("snap --pin: the pinned mode end to end, bad pin files exit 2 without 
       {"--pin " + tmp.file("word.txt"), "word.txt:2"},
       {"--mode pinned", "--pin"},
       {"--mode spin --pin " + tmp.file("pins.txt"), "--pin"},
+      {"--pin " + tmp.file("pins.txt") + " --pose-weight -1", "--pose-weight"},
   };
   for (const Bad& b : bad) {
     const Run e = run_cli(tmp.path, base + tmp.file("bad.obj") + " " + b.args);

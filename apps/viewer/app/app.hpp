@@ -26,6 +26,9 @@ struct Args {
   int frames = 0;
   double tradeoff = 1.0;
   bool keep_pose = false;  ///< --snap --keep-pose: the pose-keeping cleanup with the handles pinned
+  std::string time;        ///< rigs: the animation time (seconds) or "rest"
+  std::string animation;   ///< rigs: an animation name or index
+  bool skeleton = false;   ///< headless: draw the skin's bones over the picture
   int smoke_frames = 0;    ///< window mode: run this many frames, then exit (smoke test under Xvfb)
   std::string smoke_png;   ///< ... and save the last window frame (mesh + UI) here
 };
@@ -55,6 +58,10 @@ std::vector<double> parse_numbers(const std::string& text, const char* option, s
 /// control or a camera looking along the axis.
 ga::Mot simulate_drag(const Session& s, const render::OrbitCamera& camera, int width, int height,
                       const GizmoSpec& g);
+
+/// --animation NAME|INDEX and --time T|rest applied to a rig session (Error for a session without rig,
+/// an unknown animation or a time that is not a number).
+void apply_rig_args(const Args& a, Session& s);
 
 /// "q", "checker", "normals", "plain", "rho" → ColorMode.
 render::ColorMode parse_color(const std::string& name);

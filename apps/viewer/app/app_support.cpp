@@ -31,6 +31,31 @@ bool to_double(const std::string& s, double& out) {
 }
 }  // namespace
 
+void apply_rig_args(const Args& a, Session& s) {
+  if (a.animation.empty() && a.time.empty()) return;
+  if (!s.has_rig())
+    throw Error("--animation and --time need a glTF rig (a .gltf/.glb, or a scene with `rig`)");
+  if (!a.animation.empty()) {
+    const std::vector<std::string> names = s.animation_names();
+    int index = -1;
+    for (std::size_t k = 0; k < names.size(); ++k)
+      if (names[k] == a.animation) index = int(k);
+    double number = 0;
+    if (index < 0 && to_double(a.animation, number) && number >= 0 && number == std::floor(number) &&
+        number < double(names.size()))
+      index = int(number);
+    if (index < 0) throw Error("--animation: no animation '" + a.animation + "' in " + s.scene().name());
+    if (index != s.animation()) s.set_animation(index);
+  }
+  if (a.time == "rest") {
+    s.set_time(std::nullopt);
+  } else if (!a.time.empty()) {
+    double t = 0;
+    if (!to_double(a.time, t)) throw Error("--time: expected seconds or 'rest', got '" + a.time + "'");
+    s.set_time(t);
+  }
+}
+
 GizmoSpec parse_gizmo(const std::string& s) {
   std::vector<std::string> p = split(s);
   // Control names may hold commas ("ffd[1,2,0]"): the last three fields are mode, axis, amount.

@@ -13,6 +13,7 @@
 #include "spinmotor/render/framebuffer.hpp"
 #include "spinmotor/render/offscreen_context.hpp"
 #include "spinmotor/render/render_mesh.hpp"
+#include "spinmotor/viewer/bone_overlay.hpp"
 #include "spinmotor/viewer/curvature_paint.hpp"
 #include "spinmotor/viewer/deformer_presets.hpp"
 #include "spinmotor/viewer/picking.hpp"
@@ -92,6 +93,10 @@ int run_headless(const Args& a) {
     throw Error("--add-handle needs --select-box or --select-lasso");
 
   Session s = Session::open(a.doc);
+  apply_rig_args(a, s);
+  if (s.has_rig())
+    std::printf("rig: %zu joints, animation %d of %zu, time %s\n", s.controls().size(), s.animation(),
+                s.animation_names().size(), s.time() ? std::to_string(*s.time()).c_str() : "rest");
   if (!a.deformer.empty()) {
     const DeformerPreset p = deformer_preset(a.deformer, s.scene());
     s.set_deformer(p.deformer, p.ik);
@@ -121,18 +126,21 @@ int run_headless(const Args& a) {
   Eigen::VectorXd rho = Eigen::VectorXd::Zero(s.rest().F.rows());
   if (a.snap) {
     SnapWorker worker(s.rest());
-    if (a.keep_pose)
-      worker.request_pinned(V, s.handle_vertices());
-    else
+    if (a.keep_pose) {
+      const std::vector<int> pins = s.cleanup_pins();
+      if (pins.empty())
+        throw Error("--keep-pose: nothing to pin (no handle, and the deformer is not a skin)");
+      worker.request_pinned(V, pins);
+    } else
       worker.request(V, a.tradeoff);
     worker.wait_idle(600);
     auto r = worker.take();
     if (!r || !r->error.empty()) throw Error("snap failed: " + (r ? r->error : std::string("no result")));
     if (r->pinned)
       std::printf(
-          "cleanup (handles pinned): Q_mean %.4f -> %.4f, volume %.4f of rest (bind %.0f ms, cleanup %.0f "
-          "ms)\n",
-          q_edit, r->q_mean, r->volume_ratio, r->bind_ms, r->snap_ms);
+          "cleanup (%zu vertices pinned): Q_mean %.4f -> %.4f, volume %.4f of rest (bind %.0f ms, cleanup "
+          "%.0f ms)\n",
+          s.cleanup_pins().size(), q_edit, r->q_mean, r->volume_ratio, r->bind_ms, r->snap_ms);
     else
       std::printf("snap: Q_mean %.4f -> %.4f (bind %.0f ms, snap %.0f ms)\n", q_edit, r->q_mean, r->bind_ms,
                   r->snap_ms);
@@ -182,7 +190,47 @@ int run_headless(const Args& a) {
       o.style.signed_range = std::max(rho.cwiseAbs().maxCoeff(), 1e-12);
     }
     fb.bind();
-    if (a.frames > 0) {
+    if (a.frames > 0 && s.animation() >= 0) {
+      // A rig plays its animation: frame f at time start + f/(N−1) of the range; with --snap --keep-pose
+      // every frame is handed to the snap worker as the window's "clean up each frame" does (a request
+      // replaces a queued one: the worker cleans the frames it can, the latest one last).
+      const auto [t0, t1] = s.animation_range();
+      std::unique_ptr<SnapWorker> cleaner;
+      std::vector<int> pins;
+      if (a.snap && a.keep_pose) cleaner = std::make_unique<SnapWorker>(s.rest()), pins = s.cleanup_pins();
+      std::vector<double> pose_ms, draw_ms;
+      int requested = 0;
+      for (int f = 0; f < a.frames; ++f) {
+        s.set_time(a.frames > 1 ? t0 + (t1 - t0) * f / (a.frames - 1) : t0);
+        const Eigen::MatrixXd& Vf = s.posed();
+        pose_ms.push_back(s.pose_ms());
+        if (cleaner) cleaner->request_pinned(Vf, pins), ++requested;
+        const auto t2 = Clock::now();
+        renderer.set_positions(Vf);
+        renderer.draw(cam, o.width, o.height, o.style);
+        render::gl.Finish();
+        draw_ms.push_back(ms_since(t2));
+      }
+      std::printf(
+          "animation over %d frames (t = %.4g .. %.4g s): pose %.2f ms, upload + draw %.2f ms (medians)\n",
+          a.frames, t0, t1, median(pose_ms), median(draw_ms));
+      if (cleaner) {
+        cleaner->wait_idle(600);
+        auto r = cleaner->take();
+        if (!r || !r->error.empty())
+          throw Error("cleanup failed: " + (r ? r->error : std::string("no result")));
+        std::printf(
+            "cleanup per frame: %d requested, %llu dropped as stale, last frame Q_mean %.4f -> %.4f\n",
+            requested, (unsigned long long)cleaner->discarded(),
+            quasi_conformal_summary(s.rest().V, s.rest().F, s.posed()).q_mean, r->q_mean);
+        V = r->V;
+      } else {
+        V = s.posed();
+      }
+      renderer.set_positions(V);
+      if (o.style.color == render::ColorMode::Q)
+        renderer.set_face_values(quasi_conformal_error(s.rest().V, s.rest().F, V));
+    } else if (a.frames > 0) {
       // The frame timer: pose (deformer) + upload (normals, float conversion, buffer update) + draw.
       const std::string h = s.controls().empty() ? "" : s.controls().front();
       if (h.empty()) throw Error("--frames needs a scene with a control");
@@ -215,6 +263,11 @@ int run_headless(const Args& a) {
     }
     renderer.draw(shot, o.width, o.height, o.style);
     render::Image im = fb.read();
+    if (a.skeleton) {
+      const std::vector<PosedBone> bones = s.posed_bones();
+      if (bones.empty()) throw Error("--skeleton: the deformer is not a skin");
+      std::printf("skeleton: %zu bones, %d pixels\n", bones.size(), draw_bones(im, bones, shot));
+    }
     if (o.style.color == render::ColorMode::Q && o.color_bar)
       render::draw_color_bar(im, o.style.q_min, o.style.q_max);
     render::write_png(a.screenshot, im);

@@ -19,10 +19,13 @@
 
 #include "app.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/option_names.hpp"
+#include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
 #include "spinmotor/render/framebuffer.hpp"
 #include "spinmotor/render/render_mesh.hpp"
+#include "spinmotor/viewer/animation_clock.hpp"
 #include "spinmotor/viewer/curvature_paint.hpp"
 #include "spinmotor/viewer/deformer_presets.hpp"
 #include "spinmotor/viewer/lattice_edges.hpp"
@@ -79,6 +82,12 @@ struct Viewer {
   bool auto_apply = true;
   std::optional<PaintOutcome> painted;
 
+  // Animation (rigs): the playback clock, the skeleton overlay, the per-frame cleanup.
+  AnimationClock clock;
+  bool show_skeleton = true;
+  bool cleanup_frames = false;   ///< the pose-keeping cleanup of every frame shown (snap worker)
+  std::vector<PosedBone> bones;  ///< posed, refreshed with the geometry
+
   // Deformer panel.
   int choice = 0;
   nlohmann::json edit_block;
@@ -109,7 +118,27 @@ struct Viewer {
     if (const auto it = std::find(choices.begin(), choices.end(), current); it != choices.end())
       choice = int(it - choices.begin());
     if (rho.size() != session.rest().F.rows()) rho = Eigen::VectorXd::Zero(session.rest().F.rows());
+    const auto [start, end] = session.animation_range();
+    clock.start = start, clock.end = end;
+    clock.time = session.time().value_or(start);
+    if (session.animation() < 0) clock.playing = false;
     geometry_dirty = true;
+  }
+
+  /// A new frame of the animation (slider or playback): pose it, and clean it up when asked.
+  void set_time(std::optional<double> t) {
+    try {
+      session.set_time(t);
+    } catch (const std::exception& e) {
+      status = e.what();
+      return;
+    }
+    geometry_dirty = true;
+    if (cleanup_frames) {
+      keep_pose = true;
+      snap_now();
+      shown = Shown::Snap;  // the latest cleaned frame (the worker drops frames it has no time for)
+    }
   }
 
   void rebind(const std::function<void()>& change, const std::string& what) {
@@ -139,6 +168,7 @@ struct Viewer {
       renderer->set_face_values(rho);
     }
     q_edit = quasi_conformal_summary(session.rest().V, session.rest().F, session.posed()).q_mean;
+    bones = session.posed_bones();
     geometry_dirty = false;
   }
 
@@ -148,7 +178,12 @@ struct Viewer {
   /// The §7.2 snap, or with "keep the pose" the pose-keeping cleanup with every handle pinned.
   void snap_now() {
     if (!snapper) return;
-    std::vector<int> pins = keep_pose ? session.handle_vertices() : std::vector<int>{};
+    std::vector<int> pins;
+    if (keep_pose) try {
+        pins = session.cleanup_pins();
+      } catch (const std::exception& e) {
+        status = e.what();
+      }
     if (pins.empty())
       snapper->request(session.posed(), tradeoff);
     else
@@ -245,10 +280,16 @@ void draw_and_handle_input(Viewer& v, int w, int h) {
   // Controls: a dot per control (lattice lines between FFD controls), the current one's gizmo.
   const auto& names = v.session.controls();
   std::vector<std::optional<ImVec2>> dots(names.size());
-  if (names.size() <= 4096)
+  if (!v.bones.empty() && v.bones.size() == names.size()) {  // a skin: its controls are its bones, posed
+    for (std::size_t i = 0; i < names.size(); ++i) dots[i] = to_screen(v.bones[i].head);
+    if (v.show_skeleton)
+      for (const PosedBone& b : v.bones)
+        dl->AddLine(to_screen(b.head), to_screen(b.tail), IM_COL32(255, 140, 0, 230), 2.5f);
+  } else if (names.size() <= 4096) {
     for (std::size_t i = 0; i < names.size(); ++i)
       if (i < v.anchors.size() && v.anchors[i])
         dots[i] = to_screen(ga::to_isometry(v.session.motor(names[i])) * *v.anchors[i]);
+  }
   for (const auto& [i, j] : v.lattice)
     if (dots[i] && dots[j]) dl->AddLine(*dots[i], *dots[j], IM_COL32(90, 90, 90, 160), 1.0f);
   int hover_dot = -1;
@@ -294,7 +335,7 @@ void draw_and_handle_input(Viewer& v, int w, int h) {
       if (mode == GizmoMode::Translate) dl->AddCircleFilled(pts.back(), 5.0f, colours[k]);
     }
     if (!io.WantCaptureMouse && !io.KeyCtrl && hover_axis >= 0 && ImGui::IsMouseClicked(0) && !v.drag) {
-      v.drag = begin_drag(mode, hover_axis, c, v.session.motor(name), ray);
+      v.drag = begin_drag(mode, hover_axis, c, v.session.drag_start_motor(name), ray);
       if (v.snapper) v.snapper->cancel();
       v.snapped.reset();
       if (v.shown == Shown::Snap) v.shown = Shown::Edit;
@@ -548,10 +589,75 @@ void pose_panel(Viewer& v) {
   }
 }
 
+/// Rigs: the animation, a time slider and play button, the skin's blend, the per-frame cleanup.
+void animation_panel(Viewer& v) {
+  if (!v.session.has_rig() || !ImGui::CollapsingHeader("Animation", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  ImGui::TextDisabled("glTF rig: %zu joints (Cesium sample models: CC BY 4.0, Cesium)",
+                      v.session.controls().size());
+  const std::vector<std::string> names = v.session.animation_names();
+  if (names.empty()) {
+    ImGui::Text("no animation: the rest pose");
+  } else {
+    int a = v.session.animation();
+    std::vector<const char*> items;
+    for (const auto& n : names) items.push_back(n.c_str());
+    if (ImGui::Combo("animation", &a, items.data(), int(items.size())) && a != v.session.animation())
+      v.rebind([&] { v.session.set_animation(a); }, "animation " + names[a]);
+    float t = float(v.clock.time);
+    if (ImGui::SliderFloat("time (s)", &t, float(v.clock.start), float(v.clock.end), "%.3f"))
+      v.clock.time = t, v.set_time(v.clock.time);
+    if (ImGui::Button(v.clock.playing ? "pause" : "play")) v.clock.playing = !v.clock.playing;
+    ImGui::SameLine();
+    ImGui::Checkbox("loop", &v.clock.loop);
+    ImGui::SameLine();
+    if (ImGui::Button("rest pose")) v.clock.playing = false, v.set_time(std::nullopt);
+    float speed = float(v.clock.speed);
+    if (ImGui::SliderFloat("speed", &speed, 0.05f, 4.0f, "%.2fx", ImGuiSliderFlags_Logarithmic))
+      v.clock.speed = speed;
+  }
+  ImGui::Checkbox("skeleton", &v.show_skeleton);
+  // The skin's blend and Delta Mush (the deformer block's "blend" and "mush").
+  const nlohmann::json block = v.session.deformer_block();
+  const auto& blends = option_values<SkinBlend>();
+  const std::vector<std::string> mushes = {"none", "delta-mush", "direct-delta-mush"};
+  const std::string mush = block.value("mush", "none");
+  std::string blend = block.value("blend", std::string(option_name(SkinDeformer::Options{}.blend)));
+  int bi = int(std::find(blends.begin(), blends.end(), blend) - blends.begin());
+  int mi = int(std::find(mushes.begin(), mushes.end(), mush) - mushes.begin());
+  std::vector<const char*> bitems, mitems;
+  for (const auto& b : blends) bitems.push_back(b.c_str());
+  for (const auto& m : mushes) mitems.push_back(m.c_str());
+  const bool ddm = mush == "direct-delta-mush";  // blends the bone matrices itself
+  ImGui::BeginDisabled(ddm);
+  const bool new_blend = ImGui::Combo("blend", &bi, bitems.data(), int(bitems.size()));
+  ImGui::EndDisabled();
+  const bool new_mush = ImGui::Combo("mush", &mi, mitems.data(), int(mitems.size()));
+  if (new_blend || new_mush) {
+    nlohmann::json b = block;
+    b["mush"] = mushes[mi];
+    if (mushes[mi] == "direct-delta-mush")
+      b.erase("blend");
+    else
+      b["blend"] = blends[bi];
+    if (mushes[mi] == "none") b.erase("mush_iterations");
+    v.rebind([&] { v.session.set_deformer(b, nullptr); }, "skin " + b.value("blend", "") + " " + mushes[mi]);
+  }
+  if (ImGui::Checkbox("clean up each frame (rigid parts pinned)", &v.cleanup_frames)) {
+    if (v.cleanup_frames)
+      v.set_time(v.session.time());
+    else if (v.shown == Shown::Snap)
+      v.shown = Shown::Edit, v.geometry_dirty = true;
+  }
+  if (v.cleanup_frames && v.snapper)
+    ImGui::Text("cleanup: %llu frames dropped (no time for them)",
+                (unsigned long long)v.snapper->discarded());
+}
+
 void snap_panel(Viewer& v) {
   if (!ImGui::CollapsingHeader("Snap to spin", ImGuiTreeNodeFlags_DefaultOpen)) return;
   ImGui::Checkbox("snap when a drag ends", &v.auto_snap);
-  if (ImGui::Checkbox("keep the pose (handles pinned)", &v.keep_pose)) v.request_snap();
+  if (ImGui::Checkbox("keep the pose (handles, or a skin's rigid parts, pinned)", &v.keep_pose))
+    v.request_snap();
   if (!v.keep_pose) {
     float t = float(v.tradeoff);
     if (ImGui::SliderFloat("tradeoff", &t, 0, 1)) v.tradeoff = t;
@@ -642,6 +748,7 @@ void panel(Viewer& v, int w, int h) {
               (long long)v.session.rest().V.rows(), (long long)v.session.rest().F.rows());
   ImGui::Text("frame %.1f ms", v.frame_ms);
   display_panel(v);
+  animation_panel(v);
   deformer_panel(v);
   pose_panel(v);
   tools_panel(v);
@@ -730,6 +837,7 @@ int run_window(const Args& a) {
         if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Y) && v.session.redo())
           v.geometry_dirty = true, v.request_snap();
       }
+      if (v.clock.advance(v.frame_ms / 1000.0)) v.set_time(v.clock.time);
       if (auto r = v.snapper->take()) {
         v.snapped = std::move(*r);
         if (v.shown == Shown::Snap) v.geometry_dirty = true;

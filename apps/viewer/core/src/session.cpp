@@ -2,7 +2,9 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cctype>
 #include <chrono>
+#include <cmath>
 
 #include "spinmotor/core/atomic_file.hpp"
 #include "spinmotor/core/error.hpp"
@@ -10,7 +12,22 @@
 #include "spinmotor/mesh/io.hpp"
 
 namespace spinmotor::viewer {
-namespace {}  // namespace
+namespace {
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return s;
+}
+
+/// Index of the skin bone called `name`, or −1.
+int bone_index(const scene::SkinBinding* skin, const std::string& name) {
+  if (!skin) return -1;
+  for (std::size_t j = 0; j < skin->bones.size(); ++j)
+    if (skin->bones[j].name == name) return int(j);
+  return -1;
+}
+
+}  // namespace
 
 nlohmann::json motor_to_json(const ga::Mot& m) {
   const Eigen::Isometry3d iso = ga::to_isometry(m);
@@ -27,9 +44,21 @@ Session::~Session() = default;
 
 Session Session::open(const std::filesystem::path& path) {
   Session s;
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  if (ext == ".json") {
+  const std::string ext = lower(path.extension().string());
+  if (ext == ".gltf" || ext == ".glb") {
+    // A rig scene in memory, named after the file (saving it writes {"rig": {"gltf": ...}, ...}).
+    const nlohmann::json doc = {{"rig", {{"gltf", path.filename().string()}}},
+                                {"deformer", {{"type", "skin"}}}};
+    const std::filesystem::path dir = std::filesystem::absolute(path).parent_path();
+    *s.scene_ = scene::parse_scene(doc, dir, path.filename().string());
+    s.scene_->file = std::filesystem::absolute(path);
+    const auto t0 = std::chrono::steady_clock::now();
+    s.deformer_ = scene::bind_deformer(*s.scene_);
+    s.bind_ms_ = ms_since(t0);
+    s.controls_ = s.deformer_->control_names();
+    s.pose_ = s.scene_->frames.front();
+    if (s.animation() >= 0) s.pose_.time = s.animation_range().first;
+  } else if (ext == ".json") {
     *s.scene_ = scene::load_scene(path);
     const auto t0 = std::chrono::steady_clock::now();
     s.deformer_ = scene::bind_deformer(*s.scene_);
@@ -69,6 +98,7 @@ void Session::rebind(nlohmann::json doc) {
   history_ = UndoStack<scene::Pose>(pose_);
   V_ = scene_->mesh.V;
   dirty_ = true;
+  cleanup_pins_.reset();
 }
 
 void Session::add_handle(const std::string& name, const std::vector<int>& vertices) {
@@ -134,7 +164,72 @@ std::optional<Eigen::Vector3d> Session::control_anchor(const std::string& name) 
 std::optional<Eigen::Vector3d> Session::posed_anchor(const std::string& name) const {
   const auto a = control_anchor(name);
   if (!a) return std::nullopt;
+  // A skin bone moves as pose() moves it (inherited motions, a rig's animation): K_j = F_j ~F_j^0.
+  if (const int j = bone_index(deformer_ ? deformer_->skin() : nullptr, name); j >= 0) {
+    std::vector<ga::Mot> m;
+    deformer_->motors(pose_, m);
+    return ga::to_isometry(ga::normalize(m[j] * ga::reverse(deformer_->skin()->bones[j].rest))) * *a;
+  }
   return ga::to_isometry(pose_.motor(name)) * *a;
+}
+
+std::vector<std::string> Session::animation_names() const {
+  std::vector<std::string> names;
+  if (has_rig())
+    for (const auto& a : scene_->rig->gltf->animations) names.push_back(a.name);
+  return names;
+}
+
+std::pair<double, double> Session::animation_range() const {
+  if (animation() < 0) return {0.0, 0.0};
+  const GltfAnimation& a = scene_->rig->gltf->animations[animation()];
+  return {a.start, a.end};
+}
+
+void Session::set_time(std::optional<double> t) {
+  if (t && animation() < 0) throw Error("viewer: " + scene_->name() + " has no animation to play");
+  if (t && !std::isfinite(*t)) throw Error("viewer: the animation time must be finite");
+  if (pose_.time == t) return;
+  pose_.time = t;
+  dirty_ = true;
+}
+
+void Session::set_animation(int index) {
+  if (!has_rig()) throw Error("viewer: " + scene_->name() + " is not a rig");
+  nlohmann::json doc = scene_document();
+  doc["rig"]["animation"] = index;
+  rebind(std::move(doc));
+}
+
+std::vector<PosedBone> Session::posed_bones() {
+  const scene::SkinBinding* skin = deformer_ ? deformer_->skin() : nullptr;
+  if (!skin) return {};
+  std::vector<ga::Mot> m;
+  deformer_->motors(pose_, m);
+  std::vector<PosedBone> out;
+  for (std::size_t j = 0; j < skin->bones.size(); ++j) {
+    const Bone& b = skin->bones[j];
+    const Eigen::Isometry3d k = ga::to_isometry(ga::normalize(m[j] * ga::reverse(b.rest)));
+    out.push_back({b.name, b.parent, k * b.head, k * b.tail});
+  }
+  return out;
+}
+
+std::vector<int> Session::cleanup_pins() {
+  if (!scene_->handles.empty()) return handle_vertices();
+  const scene::SkinBinding* skin = deformer_ ? deformer_->skin() : nullptr;
+  if (!skin) return {};
+  if (!cleanup_pins_) cleanup_pins_ = scene::skin_pins(scene_->mesh, *skin, 0.999, -1.0);
+  return *cleanup_pins_;
+}
+
+ga::Mot Session::drag_start_motor(const std::string& name) const {
+  const scene::SkinBinding* skin = deformer_ ? deformer_->skin() : nullptr;
+  const int j = bone_index(skin, name);
+  if (j < 0 || pose_.motors.count(name)) return pose_.motor(name);
+  for (int p = skin->bones[j].parent; p >= 0; p = skin->bones[p].parent)
+    if (pose_.motors.count(skin->bones[p].name)) return pose_.motor(skin->bones[p].name);
+  return pose_.motor(name);
 }
 
 nlohmann::json Session::deformer_block() const { return deformer_ ? scene_->deformer : nlohmann::json(); }
@@ -169,16 +264,21 @@ void Session::set_motor(const std::string& name, const ga::Mot& m) {
 
 void Session::commit_pose() { history_.push(pose_); }
 
+// The time is playback state, not an edit: undo and redo keep it.
 bool Session::undo() {
   if (!history_.undo()) return false;
+  const std::optional<double> t = pose_.time;
   pose_ = history_.current();
+  pose_.time = t;
   dirty_ = true;
   return true;
 }
 
 bool Session::redo() {
   if (!history_.redo()) return false;
+  const std::optional<double> t = pose_.time;
   pose_ = history_.current();
+  pose_.time = t;
   dirty_ = true;
   return true;
 }
@@ -199,6 +299,11 @@ nlohmann::json Session::scene_document() const {
   nlohmann::json pose = nlohmann::json::object();
   for (const auto& [name, m] : pose_.motors) pose[name] = motor_to_json(m);
   if (!pose.empty() || doc.contains("pose")) doc["pose"] = pose;
+  if (has_rig()) {  // the frame on screen
+    for (const char* key : {"time", "frames", "fps"}) doc["rig"].erase(key);
+    if (pose_.time) doc["rig"]["time"] = *pose_.time;
+    if (animation() >= 0) doc["rig"]["animation"] = animation();
+  }
   return doc;
 }
 

@@ -26,6 +26,13 @@
 
 namespace spinmotor::scene {
 
+/// What a skin deformer was bound with: the pins of the pose-keeping cleanup come from its weights
+/// (snap "pins": "weights"; the viewer's rig cleanup), and the viewer draws its bones.
+struct SkinBinding {
+  std::vector<Bone> bones;  ///< the skeleton (a rig's: rig_skin's bones, identity rest frames)
+  Eigen::MatrixXd weights;  ///< n×B as given to the deformer (rows not necessarily normalised)
+};
+
 /// A bound deformer of a scene: the library deformer and the scene's view of it.
 class SceneDeformer {
  public:
@@ -50,6 +57,12 @@ class SceneDeformer {
   std::optional<Eigen::Vector3d> control_anchor(const std::string& control) const;
   /// Per-frame work: V_out (n×3) from the frame's motors. Errors are prefixed with the scene's name.
   void pose(const Pose& pose, Eigen::MatrixXd& V_out);
+  /// The motors pose() gives the deformer for `pose`, in control order (e.g. a skin's bone motions
+  /// after inheritance, and for a rig the animation at pose.time with the edits on top).
+  void motors(const Pose& pose, std::vector<ga::Mot>& out) const;
+  /// The skin's bones and weights (skin deformers only, else null).
+  const SkinBinding* skin() const { return skin_ ? &*skin_ : nullptr; }
+  void set_skin(SkinBinding skin) { skin_ = std::move(skin); }
   /// Per-frame figures merged into the metrics JSON, at least "max_handle_error" (max distance of a
   /// handle vertex from where its own motor takes it; null when the deformer has no such notion).
   nlohmann::json report(const Pose& pose, const Eigen::MatrixXd& V_out) const;
@@ -63,7 +76,13 @@ class SceneDeformer {
   nlohmann::json bind_report_;
   Motors motors_of_;
   std::vector<ga::Mot> motors_;
+  std::optional<SkinBinding> skin_;
 };
+
+/// The pins of the pose-keeping cleanup of a skinned pose (deform/rig_pins.hpp): the vertices whose
+/// largest weight is ≥ threshold and that lie farther than `margin` from every blended vertex
+/// (margin < 0: per bone, default_pin_margins). Increasing. Throws Error when there is none.
+std::vector<int> skin_pins(const Mesh& rest, const SkinBinding& skin, double threshold, double margin);
 
 /// The value of the option `key` of the scene's deformer block, parsed by its name table, or
 /// `fallback` (the library Options' default) when the key is absent. An unknown name throws the

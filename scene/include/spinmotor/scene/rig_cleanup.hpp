@@ -25,7 +25,7 @@
 #include "spinmotor/mesh/mesh.hpp"
 #include "spinmotor/spin/pinned_cleanup.hpp"
 
-namespace spinmotor {
+namespace spinmotor::scene {
 
 struct RigCleanupOptions {
   double pin_threshold = 0.999;  ///< pins: dominant weight ≥ this (rig_pins.hpp)
@@ -58,4 +58,4 @@ struct RigCleanup {
   }
 };
 
-}  // namespace spinmotor
+}  // namespace spinmotor::scene

@@ -5,8 +5,12 @@
 // animation (write_gltf_morph_animation). One implementation for `spinmotor rig pose` and the Python
 // module's Rig.poser / Rig.bake.
 //
-// Cleanup "pinned": the rig cleanup (scene/rig_cleanup.hpp: pins and pose attraction from the skin
-// weights, the pose-keeping cleanup), bound once per RigPoser with its options and defaults.
+// Cleanup "pinned": bound once per RigPoser. The vertices of one joint (dominant weight ≥
+// pin_threshold) farther than pin_margin from every blended vertex stay where the skin put them
+// (pin_margin < 0: per bone, a quarter of the widest blend band of the joints it takes part in,
+// default_pin_margins); the rest is held near the skinned pose by the weights' attraction and made as
+// conformal as possible at the rest volume (closed surfaces) or area: RigCleanup (rig_cleanup.hpp), whose
+// options and defaults RigPoseOptions::cleanup_options carries.
 // Space: Mesh is the file's POSITION frame; Scene applies the mesh node's global matrix at the frame's
 // time (for the Khronos samples: their Z-up root). A baked glTF stays in mesh space and carries the
 // node's rest global matrix instead (Space::Scene), so that it sits in its scene as the source did.
@@ -20,6 +24,7 @@
 #include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/mesh/gltf.hpp"
 #include "spinmotor/scene/rig_cleanup.hpp"
+#include "spinmotor/spin/pinned_cleanup.hpp"
 
 namespace spinmotor::scene {
 
@@ -39,16 +44,18 @@ struct RigPoseOptions {
   int animation = 0;                 ///< index into rig.animations; −1: the rest pose
   SkinBlend blend = SkinBlend::LBS;  ///< skinning blend
   RigCleanupMode cleanup = RigCleanupMode::None;
-  RigCleanupOptions cleanup_options;  ///< cleanup pinned: pins, pose attraction, the cleanup's options
+  /// cleanup pinned: pins, pose attraction and the cleanup's own options (scene/rig_cleanup.hpp, whose
+  /// defaults these are); pin_threshold must lie in [0.5, 1].
+  RigCleanupOptions cleanup_options;
   RigSpace space = RigSpace::Mesh;
 };
 
 class RigPoser {
  public:
   /// Bind. Inputs: the rig (must outlive the poser), options. Binds the skin deformer and, with cleanup
-  /// pinned, the rig cleanup (RigCleanup::bind). Throws Error for an animation out of range, a pin
-  /// threshold outside [0.5, 1], a non-finite margin or a negative pose weight, no pin found, a skeleton
-  /// the skin deformer refuses, a rest mesh the cleanup refuses.
+  /// pinned, the cleanup (pins from the weights). Throws Error for an animation out of range, a
+  /// threshold outside [0.5, 1], a non-finite margin, no pin found, a skeleton the skin deformer
+  /// refuses, a rest mesh the cleanup refuses.
   explicit RigPoser(const GltfRig& rig, const RigPoseOptions& options = {});
 
   /// Positions (n×3) at time t (seconds, clamped to the animation's range): skinned, cleaned up as
@@ -60,16 +67,16 @@ class RigPoser {
   const RigPoseOptions& options() const { return options_; }
   const GltfRig& rig() const { return rig_; }
   /// Pinned vertices (sorted; empty without cleanup) and the per-bone margins used.
-  const Eigen::VectorXi& pins() const { return cleanup_ ? cleanup_->pins : no_pins_; }
-  const Eigen::VectorXd& pin_margins() const { return cleanup_ ? cleanup_->margins : no_margins_; }
+  const Eigen::VectorXi& pins() const { return pins_; }
+  const Eigen::VectorXd& pin_margins() const { return margins_; }
 
  private:
   const GltfRig& rig_;
   RigPoseOptions options_;
   SkinDeformer skin_;
   std::optional<RigCleanup> cleanup_;
-  Eigen::VectorXi no_pins_;
-  Eigen::VectorXd no_margins_;
+  Eigen::VectorXi pins_;
+  Eigen::VectorXd margins_;
   Eigen::MatrixXd scratch_;
 };
 

@@ -49,7 +49,8 @@ using RunProgress = std::function<void(std::size_t frame, std::size_t frames, do
 RunResult run_scene(const Scene& scene, const RunProgress& progress = {});
 
 /// Where output `spec` of frame `frame` goes: relative paths against out_dir if given, else the scene
-/// directory; animated scenes insert the 4-digit frame number before the extension.
+/// directory; animated scenes insert the 4-digit frame number (scene.first_frame + frame) before the
+/// extension.
 std::filesystem::path output_path(const Scene& scene, const std::filesystem::path& spec, int frame,
                                   const std::optional<std::filesystem::path>& out_dir);
 

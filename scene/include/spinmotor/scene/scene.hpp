@@ -3,9 +3,9 @@
 //
 // load_scene(file) reads the JSON, validates it against the shipped schema (scene.schema.json,
 // embedded in the binary: scene_schema()), then builds what every deformer needs: the rest mesh (from
-// a file relative to the scene file, or a generator), the handles (vertex sets from their `select`),
-// the poses (one per frame, motors by control name), the `ik`, `snap` and `output` blocks. The
-// `deformer` block is kept as JSON: each deformer type reads its own keys when it binds
+// a file relative to the scene file, a generator, or the surface of a glTF `rig`), the handles (vertex sets
+// from their `select`), the poses (one per frame, motors by control name), the `ik`, `snap` and `output`
+// blocks. The `deformer` block is kept as JSON: each deformer type reads its own keys when it binds
 // (deformer_registry.hpp).
 //
 // Every problem throws spinmotor::Error (BadInput) whose message starts with the scene file and the
@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -25,6 +26,7 @@
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/deform/deformer.hpp"
 #include "spinmotor/ga.hpp"
+#include "spinmotor/mesh/gltf.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
 #include "spinmotor/spin/pinned_cleanup.hpp"
@@ -41,6 +43,9 @@ struct Pose {
   std::map<std::string, ga::Mot> motors;
   std::string
       path;  ///< JSON Pointer of the pose object ("/pose", "/frames/2"); entries are path + "/" + name
+  /// Scenes with a `rig`: the animation time of this frame in seconds (nothing: the rest pose). The
+  /// motors are then edits on top of the animation (docs/scene.md `rig`).
+  std::optional<double> time;
   /// The motor of `name`, or the identity.
   ga::Mot motor(const std::string& name) const;
   /// JSON Pointer of the entry `name`.
@@ -63,10 +68,27 @@ struct SnapSpec {
   std::vector<int> pin_handles;          ///< pinned mode: indices of the handles whose vertices are pinned
   CleanupKeep keep = CleanupKeep::Auto;  ///< pinned mode: the measure kept
   int iterations = PinnedCleanupOptions{}.max_iterations;  ///< pinned mode: at most this many steps
+  /// pinned mode: γ of the pose attraction; unset: 0 with handle pins, the rig default
+  /// (scene/rig_cleanup.hpp) with "pins": "weights", where the attraction follows the weights.
+  std::optional<double> pose_weight;
+  /// pinned mode, "pins": "weights": the rigid parts of the skin deformer's weights (rig_pins.hpp)
+  /// instead of handles, with pin_threshold and pin_margin (< 0: default_pin_margins).
+  bool pin_weights = false;
+  double pin_threshold = 0.999;
+  double pin_margin = -1;
   double tradeoff = 1.0;       ///< spin mode: similarities (0) … integrable spin transformation (1)
   int smooth_rho = 0;          ///< spin mode: Laplacian smoothing passes of the fitted ρ
   int steps = 4;               ///< shape mode: extrusion steps
   double area_constraint = 0;  ///< shape mode: area soft-constraint ε (0 = off)
+};
+
+/// The `rig` block: a glTF character (mesh/gltf.hpp) whose surface is the scene's mesh, posed by the skin
+/// deformer from its animation.
+struct RigSpec {
+  std::filesystem::path file;           ///< the glTF file (resolved against the scene's directory)
+  std::shared_ptr<const GltfRig> gltf;  ///< as read_gltf returned it (shared by copies of the scene)
+  int animation = -1;         ///< the animation index the frames sample, −1 when the file has none
+  std::vector<double> times;  ///< one per frame (empty: the rest pose)
 };
 
 struct OutputSpec {
@@ -82,8 +104,10 @@ struct Scene {
   std::vector<Handle> handles;
   std::string deformer_type;
   nlohmann::json deformer;   ///< the /deformer block
-  std::vector<Pose> frames;  ///< one for `pose` (or none given), several for `frames`
-  bool animated = false;     ///< `frames` was given: outputs get frame numbers
+  std::vector<Pose> frames;  ///< one for `pose` (or none given), several for `frames` (or `rig.frames`)
+  bool animated = false;     ///< `frames` (or `rig.frames`) was given: outputs get frame numbers
+  int first_frame = 0;       ///< the number of frames[0] in output names and metrics (`rig.frames` [A, B]: A)
+  std::optional<RigSpec> rig;
   std::optional<IkSpec> ik;
   SnapSpec snap;
   OutputSpec output;

@@ -1,6 +1,11 @@
 #pragma once
-// The viewer's document: a scene file (docs/scene.md) or a bare mesh, its bound deformer, the current pose
-// with undo/redo, and saving. Window-free (the headless screenshot mode and the tests drive it).
+// The viewer's document: a scene file (docs/scene.md), a glTF rig or a bare mesh, its bound deformer, the
+// current pose with undo/redo, and saving. Window-free (the headless screenshot mode and the tests drive
+// it).
+//
+// A glTF character (.gltf/.glb, or a scene with a `rig` block) is a skin scene whose working pose has a
+// time: set_time() poses the animation (the pose's motors are then edits on top of it, docs/scene.md
+// `rig`), set_animation() picks another one; the time is playback state, kept by undo/redo.
 //
 //   Session s = Session::open("scene.json");    // load, validate, bind the deformer once
 //   s.set_motor("tip", m);  s.commit_pose();    // an edit (one undo step per commit)
@@ -13,6 +18,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "spinmotor/scene/deformer_registry.hpp"
@@ -25,12 +31,22 @@ namespace spinmotor::viewer {
 /// origin, then translation; docs/scene.md `pose`).
 nlohmann::json motor_to_json(const ga::Mot& m);
 
+/// A bone of a skin deformer where the working pose puts it (Session::posed_bones).
+struct PosedBone {
+  std::string name;
+  int parent = -1;
+  Eigen::Vector3d head, tail;
+};
+
 /// References returned by scene(), rest(), controls() and posed() stay valid until the next call of
-/// add_handle, remove_handle or set_deformer, which rebuild the scene (ASan caught a test holding one).
+/// add_handle, remove_handle, set_deformer or set_animation, which rebuild the scene (ASan caught a test
+/// holding one).
 class Session {
  public:
-  /// A ".json" path is a scene (validated, deformer bound); anything else a mesh shown without deformer.
-  /// Throws Error naming the file and what is wrong.
+  /// A ".json" path is a scene (validated, deformer bound); ".gltf"/".glb" a rig scene
+  /// {"rig": {"gltf": FILE}, "deformer": {"type": "skin"}} at the start of its first animation (the rest
+  /// pose when it has none); anything else a mesh shown without deformer. Throws Error naming the file
+  /// and what is wrong.
   static Session open(const std::filesystem::path& path);
   Session(Session&&) noexcept;
   Session& operator=(Session&&) noexcept;
@@ -81,6 +97,31 @@ class Session {
   /// taken new name; the session is then unchanged.
   void rename_handle(const std::string& name, const std::string& new_name);
 
+  // ---- rigs (scenes with a `rig` block) ----
+  bool has_rig() const { return scene_->rig.has_value(); }
+  /// The animation the time poses (−1: the file has none, or no rig).
+  int animation() const { return has_rig() ? scene_->rig->animation : -1; }
+  std::vector<std::string> animation_names() const;
+  /// First and last key time of the current animation ({0, 0} without one).
+  std::pair<double, double> animation_range() const;
+  /// The working pose's time (nothing: the rest pose).
+  std::optional<double> time() const { return pose_.time; }
+  /// Poses the animation at t (nothing: the rest pose). Error without a rig or animation, or t not finite.
+  void set_time(std::optional<double> t);
+  /// Switches the animation (rebinds as set_deformer; the time and the pose edits are kept).
+  void set_animation(int index);
+
+  /// The skin's bones where the working pose puts them: K_j = F_j ~F_j^0 applied to the rest head and tail
+  /// (a rig: the animation at the time with the edits on top). Empty unless the deformer is a skin.
+  std::vector<PosedBone> posed_bones();
+  /// The pins of the pose-keeping cleanup ("keep the pose"): every handle's vertices, or for a skin
+  /// scene without handles the skin's rigid parts (scene::skin_pins, default threshold and margins).
+  /// Empty when neither applies.
+  std::vector<int> cleanup_pins();
+  /// The motor a gizmo drag of `name` starts from: its pose entry, or for a skin bone without one the
+  /// motion it inherits from its nearest posed ancestor (what pose() applies to it).
+  ga::Mot drag_start_motor(const std::string& name) const;
+
   const scene::Pose& pose() const { return pose_; }
   ga::Mot motor(const std::string& name) const { return pose_.motor(name); }
   /// Sets one motor of the working pose (during a drag: no undo step yet). Error for an unknown control.
@@ -109,6 +150,7 @@ class Session {
   std::unique_ptr<scene::Scene> scene_ = std::make_unique<scene::Scene>();
   std::unique_ptr<scene::SceneDeformer> deformer_;
   std::vector<std::string> controls_;
+  std::optional<std::vector<int>> cleanup_pins_;  ///< cached per bind
   scene::Pose pose_;
   UndoStack<scene::Pose> history_{scene::Pose{}};
   Eigen::MatrixXd V_;
