@@ -158,8 +158,8 @@ def test_scene_pose_and_pinned_snap_match_the_cli(tmp_path):
 
 
 def test_rig_pose_matches_the_cli(tmp_path, rigs_dir):
-    """`spinmotor rig pose --time T` (dlb; and lbs with --cleanup pinned, --space scene) against
-    Rig.pose / Rig.poser on CesiumMan."""
+    """`spinmotor rig pose --time T` (dlb; and lbs with --cleanup pinned, --space scene, --pose-weight)
+    against Rig.pose / Rig.poser on CesiumMan."""
     path = os.path.join(rigs_dir, "CesiumMan.gltf")
     rig = sm.read_gltf(path)
     _, start, end = rig.animations[0]
@@ -170,11 +170,13 @@ def test_rig_pose_matches_the_cli(tmp_path, rigs_dir):
     mine = rig.pose(t, blend="dlb")
     assert np.abs(mine - cli).max() <= 1e-12 * diag(mine)
     assert np.array_equal(rig.poser(blend="dlb").pose(t), mine)
-    rc, text = run("rig", "pose", path, "--time", repr(t), "--cleanup", "pinned", "--space", "scene",
-                   "--out", tmp_path / "clean.obj")
-    assert rc == 0, text
-    cli = sm.read_mesh(tmp_path / "clean.obj")[0]
-    poser = rig.poser(cleanup="pinned", space="scene")
-    mine = poser.pose(t)
-    assert np.abs(mine - cli).max() <= 1e-12 * diag(mine)
-    assert len(poser.pins) > 0
+    for gamma in (None, 3.0):  # the default pose attraction (scene/rig_cleanup.hpp) and another one
+        extra = () if gamma is None else ("--pose-weight", repr(gamma))
+        rc, text = run("rig", "pose", path, "--time", repr(t), "--cleanup", "pinned", "--space", "scene",
+                       *extra, "--out", tmp_path / "clean.obj")
+        assert rc == 0, text
+        cli = sm.read_mesh(tmp_path / "clean.obj")[0]
+        poser = rig.poser(cleanup="pinned", space="scene", **({} if gamma is None else {"pose_weight": gamma}))
+        mine = poser.pose(t)
+        assert np.abs(mine - cli).max() <= 1e-12 * diag(mine), gamma
+        assert len(poser.pins) > 0

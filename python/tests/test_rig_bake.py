@@ -202,6 +202,7 @@ def test_bake_errors_write_nothing(tmp_path, bent):
         (dict(frames=3, space="world"), "one of: mesh, scene"),
         (dict(frames=3, animation=1), "out of range"),
         (dict(frames=3, cleanup="pinned", pin_threshold=0.2), "outside [0.5, 1]"),
+        (dict(frames=3, cleanup="pinned", pose_weight=-1.0), "pose_weight must be a finite number"),
     ]
     for kwargs, message in cases:
         with pytest.raises(sm.Error, match=message.replace("[", r"\[").replace("(", r"\(")):

@@ -27,6 +27,7 @@
 #include "spinmotor/mesh/gltf.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/scene/rig_cleanup.hpp"
+#include "spinmotor/scene/rig_pose.hpp"
 
 namespace {
 
@@ -587,6 +588,56 @@ TEST_CASE("gltf baked output: morph targets and a STEP weights animation read ba
   CHECK_THROWS_AS(spinmotor::write_gltf_morph_animation(s.dir / "x.gltf", rig.mesh, frames, {0.0, 1.0, 1.0}),
                   Error);
   CHECK(!fs::exists(s.dir / "x.gltf"));
+}
+
+TEST_CASE("gltf baked output read back: read_gltf_morph_animation, RigPoser and bake_rig_gltf") {
+  Scratch s;
+  const fs::path p = s.dir / "bar.gltf";
+  bar_rig().write_embedded(p);
+  const GltfRig rig = spinmotor::read_gltf(p);
+  spinmotor::scene::RigPoser poser(rig, {.animation = 0, .blend = spinmotor::SkinBlend::LBS});
+  const std::vector<double> times = spinmotor::scene::rig_frame_times(rig, 0, 3);
+  CHECK(times == std::vector<double>{0.0, 0.5, 1.0});
+  for (const char* name : {"bar.glb", "bar-baked.gltf"}) {
+    INFO(name);
+    const fs::path out = s.dir / name;
+    const std::vector<Eigen::MatrixXd> written = spinmotor::scene::bake_rig_gltf(out, poser, times, "bar");
+    REQUIRE(written.size() == 3);
+    const spinmotor::GltfMorphAnimation back = spinmotor::read_gltf_morph_animation(out);
+    // Welding the un-welded glTF vertices returns the rig's surface in its own vertex order, exactly
+    // (its positions were float32 already).
+    CHECK(back.mesh.V == rig.mesh.V);
+    CHECK(back.mesh.F == rig.mesh.F);
+    REQUIRE(back.mesh.has_uv());
+    for (Eigen::Index f = 0; f < rig.mesh.F.rows(); ++f)
+      for (int k = 0; k < 3; ++k)
+        CHECK((back.mesh.UV.row(back.mesh.FUV(f, k)) - rig.mesh.UV.row(rig.mesh.FUV(f, k))).norm() < 1e-7);
+    CHECK(back.times == times);  // 0, 0.5, 1 are exact in float32
+    CHECK(back.name == "bar");
+    CHECK(back.node_matrix == Eigen::Matrix4d::Identity());
+    REQUIRE(back.frames.size() == 3);
+    for (size_t f = 0; f < 3; ++f) {
+      CHECK(written[f] == poser.pose(times[f]));  // the baker poses with the poser
+      // the independent reference: the glTF formula with matrices (bend 90° about z at t = 1)
+      CHECK((written[f] - spinmotor::skin_positions(rig, 0, times[f])).cwiseAbs().maxCoeff() < 1e-6);
+      CHECK((back.frames[f] - written[f]).cwiseAbs().maxCoeff() < 1e-6);  // float32 displacements
+    }
+    CHECK((back.frames[0] - rig.mesh.V).cwiseAbs().maxCoeff() < 1e-7);  // t = 0 is the rest pose
+  }
+  // Scene space: the node carries the mesh node's rest global matrix; poses are moved by it.
+  spinmotor::scene::RigPoser placed(rig, {.space = spinmotor::scene::RigSpace::Scene});
+  spinmotor::scene::bake_rig_gltf(s.dir / "placed.glb", placed, {0.25});
+  CHECK(spinmotor::read_gltf_morph_animation(s.dir / "placed.glb").node_matrix ==
+        spinmotor::node_world_matrices(rig, -1, 0.0)[rig.mesh_node]);
+  // Errors name the problem and write nothing.
+  CHECK_THROWS_WITH(spinmotor::read_gltf_morph_animation(p), Catch::Contains("no mesh with morph targets"));
+  CHECK_THROWS_WITH(spinmotor::read_gltf_morph_animation(s.dir / "none.glb"),
+                    Catch::Contains("no such file"));
+  CHECK_THROWS_WITH(spinmotor::read_gltf(s.dir / "bar.glb"), Catch::Contains("no skinned mesh"));
+  CHECK_THROWS_WITH(spinmotor::scene::RigPoser(rig, {.animation = 3}), Catch::Contains("out of range"));
+  CHECK_THROWS_WITH(spinmotor::scene::bake_rig_gltf(s.dir / "bad.glb", poser, {0.5, 0.5}),
+                    Catch::Contains("not after the previous"));
+  CHECK(!fs::exists(s.dir / "bad.glb"));
 }
 
 TEST_CASE("spinmotor rig info and pose on the tiny rig, bad input exits 2 and writes nothing") {
