@@ -267,7 +267,7 @@ TEST_CASE("rig scene: bad rig blocks name /rig/... and the problem") {
   has(doc, "/pose/elbow", "'joint0', 'joint1', 'joint2'");
   doc = ok;
   doc["snap"] = {{"pins", "weights"}, {"pin_threshold", 1.0}, {"pin_margin", 10.0}};
-  has(doc, "/snap", "no vertex has a bone weight");
+  has(doc, "/snap", "no vertex has a dominant weight");
   doc = ok;
   doc["snap"] = {{"pin_margin", 0.1}};
   has(doc, "/snap/pin_margin", "belongs to \"pins\": \"weights\"");

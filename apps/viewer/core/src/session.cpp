@@ -221,7 +221,9 @@ std::vector<int> Session::cleanup_pins() {
   if (!scene_->handles.empty()) return handle_vertices();
   const scene::SkinBinding* skin = deformer_ ? deformer_->skin() : nullptr;
   if (!skin) return {};
-  if (!cleanup_pins_) cleanup_pins_ = scene::skin_pins(scene_->mesh, *skin, 0.999, -1.0);
+  if (!cleanup_pins_)
+    cleanup_pins_ = scene::skin_pins(scene_->mesh, *skin, scene::RigCleanupOptions{}.pin_threshold,
+                                     scene::RigCleanupOptions{}.pin_margin);
   return *cleanup_pins_;
 }
 
