@@ -595,6 +595,39 @@ def test_ui(addon):
     assert any(c[0] == "label" and c[1].startswith("spinmotor 0.1") for c in layout.calls), layout.calls
 
 
+def test_gltf_import(sm):
+    """Blender's own glTF importer reads the morph-target animation the project bakes (rig pose --out .glb,
+    Rig.bake, write_gltf_morph_animation): one shape key per frame, holding the frame's positions (float32).
+    Debian's Blender 3.4 importer still uses numpy.bool, removed in numpy 1.24: aliased here for the
+    importer (a packaging problem of Blender 3.4, not of the file)."""
+    import tempfile
+    if "bool" not in vars(np):
+        np.bool = bool
+    V0, F = sm.capsule(0.5, 3.0, 20, 12)
+    frames = []
+    for k in range(3):
+        a = math.radians(30 * k)
+        R = np.array([[1, 0, 0], [0, math.cos(a), -math.sin(a)], [0, math.sin(a), math.cos(a)]])
+        frames.append(V0 @ R.T + np.array([0.1 * k, 0, 0]))
+    path = os.path.join(tempfile.mkdtemp(), "baked.glb")
+    sm.write_gltf_morph_animation(path, V0, F, np.stack(frames), [0.0, 0.5, 1.0], name="baked")
+    before = set(bpy.data.objects)
+    assert bpy.ops.import_scene.gltf(filepath=path) == {'FINISHED'}
+    new = [o for o in bpy.data.objects if o not in before and o.type == 'MESH']
+    assert len(new) == 1, new
+    me = new[0].data
+    keys = me.shape_keys.key_blocks
+    assert len(keys) == 1 + len(frames), [k.name for k in keys]
+    assert len(me.vertices) == len(V0), (len(me.vertices), len(V0))  # no UVs: no seam copies
+    # The importer converts glTF's Y-up to Blender's Z-up: (x, y, z) -> (x, -z, y).
+    for k, Vk in enumerate(frames):
+        co = read_co(keys[k + 1].data, len(V0))
+        co = np.column_stack([co[:, 0], co[:, 2], -co[:, 1]])
+        err = np.abs(co - Vk).max() / diag(Vk)
+        assert err < 1e-6, (k, err)
+    print(f"  Blender imports the baked glb: {len(keys) - 1} shape keys, {len(me.vertices)} vertices")
+
+
 def enable_addon():
     """From the zip, as an artist installs it, when $BLENDER_USER_SCRIPTS is a scratch folder (scripts/ci-blender
     sets one: the install writes there), else from blender/ on sys.path."""
@@ -642,6 +675,8 @@ def main():
     test_q_colors(sm, addon, ob, V0, F, V)
     print("test_handles")
     test_handles(sm, addon)
+    print("test_gltf_import")
+    test_gltf_import(sm)
     addon_utils.disable("spinmotor_addon", default_set=True)
     assert not hasattr(bpy.types.Scene, "spinmotor") and not hasattr(bpy.types, "SPINMOTOR_OT_bake_cleanup")
     assert "spinmotor_addon" not in bpy.context.preferences.addons
