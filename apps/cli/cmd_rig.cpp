@@ -6,7 +6,8 @@
 //       frames evenly over the animation; --frames A:B --fps F: frames A..B, frame k at time k / F and
 //       numbered k);
 //       a .gltf/.glb PATH holds all frames as morph targets driven by a STEP weights animation;
-//       [--space mesh|scene]: positions in the file's mesh space (default) or placed in its scene;
+//       [--space scene|mesh]: positions placed in the file's scene, as glTF viewers show them (default),
+//       or in its mesh space (the POSITION frame);
 //       [--cleanup none|pinned]: the pose-keeping cleanup of every frame.
 //   The posing, the cleanup and the glTF baker are scene/rig_pose.hpp's (shared with Python's Rig).
 // Bad input (unreadable rig, bad option, scaling joint for a motor blend) exits 2 before anything is
@@ -44,7 +45,7 @@ struct RigArgs {
   std::string out;
   std::string cleanup = "none";
   spinmotor::scene::RigCleanupOptions rig_cleanup;  // --cleanup pinned (defaults: scene/rig_cleanup.hpp)
-  std::string space = "mesh";
+  std::string space = "scene";
 };
 
 std::string lower(std::string s) {
@@ -306,8 +307,8 @@ const spinmotor::cli::RegisterCommand reg{
           ->required();
       pose->add_option(
               "--space", a->space,
-              "Output coordinates: mesh (the file's POSITION frame, default) or scene (the mesh node's "
-              "global matrix applied, e.g. Y-up for the Khronos samples)")
+              "Output coordinates: scene (the mesh node's global matrix applied, as glTF viewers show the "
+              "file, e.g. Y-up for the Khronos samples; default) or mesh (the file's POSITION frame)")
           ->check(CLI::IsMember(spinmotor::option_values<spinmotor::scene::RigSpace>()));
       pose->add_option(
               "--cleanup", a->cleanup,

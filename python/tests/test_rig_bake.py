@@ -150,8 +150,8 @@ def test_bake_in_scene_space_with_cleanup_and_times(tmp_path, bent):
 @pytest.mark.skipif(not os.path.isfile(CLI), reason="SPINMOTOR_CLI (the spinmotor binary) not set")
 def test_bake_matches_the_cli(tmp_path, bent):
     path, P, F = bent
-    r = subprocess.run([CLI, "rig", "pose", str(path), "--frames", "4", "--blend", "pivot-log", "--out",
-                        str(tmp_path / "cli.glb")], capture_output=True, text=True, timeout=60)
+    r = subprocess.run([CLI, "rig", "pose", str(path), "--frames", "4", "--blend", "pivot-log", "--space",
+                        "mesh", "--out", str(tmp_path / "cli.glb")], capture_output=True, text=True, timeout=60)
     assert r.returncode == 0, r.stdout + r.stderr
     sm.read_gltf(path).bake(tmp_path / "py.glb", frames=4, blend="pivot-log", name="cli")
     a = sm.read_gltf_morph_animation(tmp_path / "cli.glb")

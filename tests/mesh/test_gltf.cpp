@@ -1008,7 +1008,8 @@ TEST_CASE("spinmotor rig on CesiumMan: info numbers and a baked glb") {
   CHECK(j["animations"][0]["duration"] == 2.0);
   CHECK(j["rest_pose_error"].get<double>() < 1e-5);  // README: bind pose = rest pose to 1.0e-6
   r = spinmotor_test::run_cli(
-      tmp.path, "rig pose " + file + " --frames 5 --blend pivot-log --out " + tmp.file("baked.glb"));
+      tmp.path,
+      "rig pose " + file + " --frames 5 --blend pivot-log --space mesh --out " + tmp.file("baked.glb"));
   INFO(r.err);
   REQUIRE(r.code == 0);
   tinygltf::TinyGLTF loader;
@@ -1018,14 +1019,15 @@ TEST_CASE("spinmotor rig on CesiumMan: info numbers and a baked glb") {
   CHECK(m.meshes[0].primitives[0].targets.size() == 5);
   CHECK(m.accessors[m.meshes[0].primitives[0].attributes.at("POSITION")].count ==
         3273);                       // re-split at UV seams
-  CHECK(m.nodes[0].matrix.empty());  // --space mesh (default)
+  CHECK(m.nodes[0].matrix.empty());  // --space mesh
   CHECK(m.animations[0].samplers[0].interpolation == "STEP");
 
   // --cleanup pinned is the library's RigCleanup with its defaults (scene/rig_cleanup.hpp), bit for bit
   // through the shortest round-trip OBJ digits; --pose-weight reaches it.
   for (const double gamma : {10.0, 0.0}) {
     INFO("pose weight " << gamma);
-    r = spinmotor_test::run_cli(tmp.path, "rig pose " + file + " --time 1 --cleanup pinned --pose-weight " +
+    r = spinmotor_test::run_cli(tmp.path, "rig pose " + file +
+                                              " --time 1 --space mesh --cleanup pinned --pose-weight " +
                                               std::to_string(gamma) + " --out " + tmp.file("clean.obj"));
     INFO(r.err);
     REQUIRE(r.code == 0);
