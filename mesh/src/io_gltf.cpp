@@ -390,27 +390,32 @@ struct PositionHash {
   }
 };
 
-}  // namespace
-
-GltfRig read_gltf(const std::filesystem::path& path) {
+/// The parsed file (.gltf with data: URIs or side files, or .glb; images are not decoded). Throws Error
+/// "<file>: ..." for a missing file, another extension, or tinygltf's parse error.
+tinygltf::Model load_model(const std::filesystem::path& path) {
   const std::string file = path.string();
   if (!std::filesystem::exists(path)) throw Error(file + ": no such file");
+  const std::string ext = lower_ext(path);
+  if (ext != ".gltf" && ext != ".glb")
+    throw Error(file + ": not a glTF file (expected extension .gltf or .glb)");
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&ignore_image, nullptr);
   tinygltf::Model model;
   std::string err, warn;
-  const std::string ext = lower_ext(path);
-  bool ok = false;
-  if (ext == ".glb")
-    ok = loader.LoadBinaryFromFile(&model, &err, &warn, file);
-  else if (ext == ".gltf")
-    ok = loader.LoadASCIIFromFile(&model, &err, &warn, file);
-  else
-    throw Error(file + ": not a glTF file (expected extension .gltf or .glb)");
+  const bool ok = ext == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, file)
+                                : loader.LoadASCIIFromFile(&model, &err, &warn, file);
   if (!ok) {
     while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
     throw Error(file + ": " + (err.empty() ? std::string("tinygltf could not parse the file") : err));
   }
+  return model;
+}
+
+}  // namespace
+
+GltfRig read_gltf(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  const tinygltf::Model model = load_model(path);
   const Reader rd{model, file};
   if (!model.extensionsRequired.empty())
     rd.fail("requires extension '" + model.extensionsRequired.front() + "' (unsupported)");
@@ -1076,20 +1081,7 @@ void write_gltf_morph_animation(const std::filesystem::path& path, const Mesh& r
 
 GltfMorphAnimation read_gltf_morph_animation(const std::filesystem::path& path) {
   const std::string file = path.string();
-  if (!std::filesystem::exists(path)) throw Error(file + ": no such file");
-  const std::string ext = lower_ext(path);
-  if (ext != ".gltf" && ext != ".glb")
-    throw Error(file + ": not a glTF file (expected extension .gltf or .glb)");
-  tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(&ignore_image, nullptr);
-  tinygltf::Model model;
-  std::string err, warn;
-  const bool ok = ext == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, file)
-                                : loader.LoadASCIIFromFile(&model, &err, &warn, file);
-  if (!ok) {
-    while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
-    throw Error(file + ": " + (err.empty() ? std::string("tinygltf could not parse the file") : err));
-  }
+  const tinygltf::Model model = load_model(path);
   const Reader rd{model, file};
   if (!model.extensionsRequired.empty())
     rd.fail("requires extension '" + model.extensionsRequired.front() + "' (unsupported)");

@@ -160,18 +160,7 @@ the wrong count or outside [0, 1]; numerical Error if the factorization fails.
                 r = c.cleanup->cleanup(E, V);
               }
               if (!full) return to_numpy(V);
-              py::dict d;
-              d["V"] = to_numpy(V);
-              d["iterations"] = r.iterations;
-              d["converged"] = r.converged;
-              d["all_pinned"] = r.all_pinned;
-              d["keep"] = std::string(option_name(r.kept));
-              d["measure_ratio"] = r.measure_ratio();
-              d["edit_measure_ratio"] = r.rest_measure != 0 ? r.edit_measure / r.rest_measure : 1.0;
-              d["pin_error"] = r.pin_error;
-              d["energy"] = r.energy;
-              d["total_ms"] = r.total_ms;
-              return d;
+              return cleanup_dict(r, V);
             },
             py::arg("V_edit"), py::arg("full") = false, R"doc(
 cleanup(V_edit, full=False) -> V (n, 3), or with full=True a dict: V, iterations, converged, all_pinned,
