@@ -12,8 +12,12 @@
 //                            (bend90twist90)
 //   frame/<edit>/<mesh>/attract10   the same with the rig defaults' pose attraction (γ = 10, weights
 //                            pin_attraction_from_weights: scene/rig_cleanup.hpp)
-// Counters: iterations, local_ms, solve_ms, q_edit, q_mean, q_max, volume (ratio to rest), free
-// (free vertices), rms (RMS distance to the edit / diagonal).
+//   anim/<mesh>[/warm]       30 frames of an animation (elbow 0 → 90°, twist 0 → 45°, frame k at k/30),
+//                            cleaned in order by one bound object; the time is per frame; /warm with
+//                            options.warm_start (each frame starts from the previous correction);
+//                            /attract10 with the rig defaults' pose attraction as above
+// Counters: iterations (anim: mean per frame), local_ms, solve_ms, q_edit, q_mean, q_max, volume (ratio to
+// rest), free (free vertices), rms (RMS distance to the edit / diagonal).
 #include <benchmark/benchmark.h>
 
 #include <Eigen/Geometry>
@@ -22,6 +26,7 @@
 #include <cstdlib>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "spinmotor/deform/rig_pins.hpp"
 #include "spinmotor/mesh/generators.hpp"
@@ -103,6 +108,36 @@ void BM_Frame(benchmark::State& st, int rings, int sides, double bend_deg, doubl
                        (E.colwise().maxCoeff() - E.colwise().minCoeff()).norm();
 }
 
+void BM_Anim(benchmark::State& st, int rings, int sides, bool warm, double gamma) {
+  const Arm& a = arm(rings, sides);
+  constexpr int kFrames = 30;
+  std::vector<Eigen::MatrixXd> E;
+  for (int f = 1; f <= kFrames; ++f) E.push_back(lbs(a, f * (M_PI / 2) / kFrames, f * (M_PI / 4) / kFrames));
+  PinnedCleanupOptions o;
+  o.warm_start = warm;
+  o.pose_weight = gamma;
+  PinnedCleanup pc = PinnedCleanup::bind(a.mesh, a.pins, o, pin_attraction_from_weights(a.W));
+  Eigen::MatrixXd V;
+  PinnedCleanupResult r;
+  long steps = 0, runs = 0;
+  for (auto _ : st) {
+    pc.reset();
+    for (const Eigen::MatrixXd& e : E) {
+      r = pc.cleanup(e, V);
+      steps += r.iterations;
+    }
+    ++runs;
+    benchmark::DoNotOptimize(V.data());
+  }
+  const QuasiConformalSummary q = quasi_conformal_summary(a.mesh.V, a.mesh.F, V);
+  st.counters["frames"] = kFrames;
+  st.counters["iterations"] = static_cast<double>(steps) / static_cast<double>(runs * kFrames);
+  st.counters["q_mean"] = q.q_mean;
+  st.counters["q_max"] = q.q_max;
+  st.counters["energy"] = r.energy.back();
+  st.SetItemsProcessed(runs * kFrames);  // items/s = frames per second
+}
+
 const bool registered = [] {
   const bool quick = std::getenv("SPINMOTOR_BENCH_QUICK") != nullptr;
   struct M {
@@ -126,6 +161,13 @@ const bool registered = [] {
           ->Unit(benchmark::kMillisecond)
           ->Iterations(reps);
     }
+    for (const double gamma : {0.0, 10.0})
+      for (const bool warm : {false, true})
+        benchmark::RegisterBenchmark(
+            (std::string("anim/") + m.name + (gamma > 0 ? "/attract10" : "") + (warm ? "/warm" : "")).c_str(),
+            BM_Anim, m.rings, m.sides, warm, gamma)
+            ->Unit(benchmark::kMillisecond)
+            ->Iterations(1);
   }
   return true;
 }();

@@ -45,6 +45,7 @@ struct RigArgs {
   std::string out;
   std::string cleanup = "none";
   spinmotor::scene::RigCleanupOptions rig_cleanup;  // --cleanup pinned (defaults: scene/rig_cleanup.hpp)
+  bool warm_start = true;  // --cleanup pinned with --frames: frame k starts from frame k − 1's correction
   std::string space = "scene";
 };
 
@@ -210,6 +211,7 @@ void run_pose(const RigArgs& a) {
   po.blend = blend;
   po.cleanup = spinmotor::parse_option<spinmotor::scene::RigCleanupMode>(a.cleanup, "rig pose: --cleanup: ");
   po.cleanup_options = a.rig_cleanup;
+  po.cleanup_options.cleanup.warm_start = a.warm_start;  // frames are cleaned in time order
   po.space = spinmotor::parse_option<spinmotor::scene::RigSpace>(a.space, "rig pose: --space: ");
   spinmotor::scene::RigPoser poser(rig, po);  // scene/rig_pose.hpp: skin, cleanup, placement
   if (poser.pins().size() > 0)
@@ -327,6 +329,10 @@ const spinmotor::cli::RegisterCommand reg{
                        "pose (1 on rigid parts, 0 mid-joint; 0 = pins only)")
           ->check(CLI::NonNegativeNumber)
           ->capture_default_str();
+      pose->add_flag("--warm-start,!--no-warm-start", a->warm_start,
+                     "--cleanup pinned with --frames: start each frame's cleanup from the previous frame's "
+                     "correction (default; 2.9-4x fewer steps on a 30-frame bend, docs/performance.md), or "
+                     "clean every frame from its skinned pose alone");
       pose->callback([a] { run_pose(*a); });
       const std::string examples =
           "Examples:\n"

@@ -239,8 +239,9 @@ Errors:  spinmotor.Error for an unknown name (listing the valid ones), an animat
              double pin_margin, double pose_weight, const std::string& space, py::object name) {
             if (frames.is_none() == times.is_none())
               throw Error("bake: give exactly one of frames (a count) and times (a list of seconds)");
-            const scene::RigPoseOptions o =
+            scene::RigPoseOptions o =
                 pose_options(animation, blend, cleanup, pin_threshold, pin_margin, pose_weight, space);
+            o.cleanup_options.cleanup.warm_start = true;  // frames are cleaned in time order
             std::vector<double> t;
             if (!times.is_none()) {
               const Eigen::VectorXd tv = to_vector(times, "times");

@@ -117,18 +117,21 @@ edit put them; the others are placed as conformally as possible (low quasi-confo
 rest mesh) at the rest volume (closed meshes) or area (open ones).
 
 PinnedCleanup(V, F, pins, keep="auto", max_iterations=100, tolerance=1e-4, pose_weight=0.0,
-              attraction=None)
+              attraction=None, warm_start=False)
   V (n, 3), F (m, 3): the rest mesh; pins: vertex indices (order and repeats do not matter). keep: auto
   (volume if closed, else area), volume, area or none. pose_weight: gamma >= 0 of the pose attraction
   that holds the free vertices near the edit (0: the pins only); attraction: n weights in [0, 1] per
-  vertex (None: all 1), e.g. pin_attraction_from_weights(W). All factorization happens here, once.
+  vertex (None: all 1), e.g. pin_attraction_from_weights(W). warm_start: for animations cleaned in
+  time order, start each call from the previous call's correction (reset() forgets it). All
+  factorization happens here, once.
   For a glTF rig, Rig.bind_cleanup() binds one with the rig defaults.
 Errors: spinmotor.Error for empty or out-of-range pins, a connected component without a pin (named),
 keep="volume" on an open mesh, a degenerate rest face, a negative pose_weight, attraction weights of
 the wrong count or outside [0, 1]; numerical Error if the factorization fails.
 )doc")
         .def(py::init([](py::object V, py::object F, py::object pins, const std::string& keep,
-                         int max_iterations, double tolerance, double pose_weight, py::object attraction) {
+                         int max_iterations, double tolerance, double pose_weight, py::object attraction,
+                         bool warm_start) {
                const Mesh rest = to_mesh(V, F);
                const Eigen::VectorXi p = to_int_vector(pins, "pins");
                const Eigen::VectorXd a = attraction.is_none()
@@ -139,6 +142,7 @@ the wrong count or outside [0, 1]; numerical Error if the factorization fails.
                o.max_iterations = max_iterations;
                o.tolerance = tolerance;
                o.pose_weight = pose_weight;
+               o.warm_start = warm_start;
                PyCleanup c;
                py::gil_scoped_release release;
                c.cleanup = std::make_unique<PinnedCleanup>(PinnedCleanup::bind(rest, p, o, a));
@@ -147,7 +151,15 @@ the wrong count or outside [0, 1]; numerical Error if the factorization fails.
              py::arg("V"), py::arg("F"), py::arg("pins"),
              py::arg("keep") = std::string(option_name(def.keep)),
              py::arg("max_iterations") = def.max_iterations, py::arg("tolerance") = def.tolerance,
-             py::arg("pose_weight") = def.pose_weight, py::arg("attraction") = py::none())
+             py::arg("pose_weight") = def.pose_weight, py::arg("attraction") = py::none(),
+             py::arg("warm_start") = def.warm_start)
+        .def(
+            "reset",
+            [](PyCleanup& c) {
+              std::lock_guard<std::mutex> guard(*c.lock);
+              c.cleanup->reset();
+            },
+            "reset() -> None: forget the previous frame (warm_start): the next cleanup starts afresh.")
         .def(
             "cleanup",
             [](PyCleanup& c, py::object V_edit, bool full) -> py::object {

@@ -100,6 +100,9 @@ struct PinnedCleanup::Impl {
   std::vector<Eigen::Matrix3d> cell_T;  // vertex cells: T_i = s_i R_i
   std::vector<std::array<Vec3, 2>> T;   // per active face: t1, t2 (the columns of T_f in the rest frame)
   Eigen::MatrixXd B, values, V;
+  // warm start: the previous frame's edit and result (have_prev after a successful cleanup)
+  Eigen::MatrixXd prev_edit, prev_out;
+  bool have_prev = false;
 
   double measure_all(const Eigen::MatrixXd& X) const;  // the kept measure (area for None) over all faces
   double measure_fixed(const Eigen::MatrixXd& X) const;
@@ -398,6 +401,15 @@ PinnedCleanupResult PinnedCleanup::cleanup(const Eigen::MatrixXd& V_edit, Eigen:
   const int cols = constrained ? 6 : 3;
   Eigen::MatrixXd& V = m.V;
   V = V_edit;
+  // Warm start (header comment): carry the previous frame's correction along with the edit.
+  const bool warm = m.options.warm_start && m.have_prev;
+  m.have_prev = false;  // until this frame succeeds
+  if (warm)
+    for (Eigen::Index k = 0; k < m.free.size(); ++k) {
+      const int i = m.free[k];
+      V.row(i) += m.prev_out.row(i) - m.prev_edit.row(i);
+    }
+  const bool harmonic_start = m.options.harmonic_start && !warm;
   if (m.B.rows() != m.n || m.B.cols() != cols) m.B.setZero(m.n, cols);
   m.values.setZero(c, cols);
   for (Eigen::Index k = 0; k < c; ++k) m.values.row(k).head<3>() = V_edit.row(m.pins[k]);
@@ -505,7 +517,7 @@ PinnedCleanupResult PinnedCleanup::cleanup(const Eigen::MatrixXd& V_edit, Eigen:
   double e_prev = -1;
   for (int it = 0;; ++it) {
     auto t0 = Clock::now();
-    double e_norm = local_step(vertices || (it == 0 && m.options.harmonic_start));
+    double e_norm = local_step(vertices || (it == 0 && harmonic_start));
     if (accelerated && e_norm > e_prev) {
       scatter(G_last);  // reject the Anderson step
       hist = 0;
@@ -532,7 +544,7 @@ PinnedCleanupResult PinnedCleanup::cleanup(const Eigen::MatrixXd& V_edit, Eigen:
     // to undo. Instead, interpolate the similarities of the pinned cells harmonically over the free
     // vertices (L_FF x_F = −L_FP x_P for the quaternion of R_i, sign-aligned, and log s_i: the same
     // factor, 5 columns) and take the first global step with vertex cells only.
-    const bool harmonic = it == 0 && m.options.harmonic_start;
+    const bool harmonic = it == 0 && harmonic_start;
     if (harmonic) {
       Eigen::MatrixXd hv(c, 5);
       Eigen::Quaterniond ref(1, 0, 0, 0);
@@ -684,9 +696,16 @@ PinnedCleanupResult PinnedCleanup::cleanup(const Eigen::MatrixXd& V_edit, Eigen:
   for (Eigen::Index k = 0; k < c; ++k)
     err = std::max(err, (V_out.row(m.pins[k]) - V_edit.row(m.pins[k])).norm());
   r.pin_error = diag > 0 ? err / diag : err;
+  if (m.options.warm_start) {
+    m.prev_edit = V_edit;
+    m.prev_out = V_out;
+    m.have_prev = true;
+  }
   r.total_ms = ms_since(t_start);
   return r;
 }
+
+void PinnedCleanup::reset() noexcept { impl_->have_prev = false; }
 
 Eigen::Index PinnedCleanup::vertices() const { return impl_->n; }
 const Eigen::VectorXi& PinnedCleanup::pins() const { return impl_->pins; }

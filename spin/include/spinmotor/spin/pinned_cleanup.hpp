@@ -89,6 +89,12 @@
 // energy and stopping rule include E_a, and the harmonic start interpolates the pinned cells'
 // similarities by (L + C)_FF x_F = C x̂_F − L_FP x_P, i.e. toward the similarities fitted to the edit
 // where it is attracted (x̂) and harmonically where c = 0.
+// Warm start (options.warm_start, for animations): consecutive frames of an animation differ little, and
+// so do their cleanups' corrections V_out − V_edit. Frame k then starts from V_edit,k + (V_out,k−1 −
+// V_edit,k−1) on the free vertices (the pins stay exact) and skips the harmonic start; the stopping rule
+// is unchanged. The correction is carried in world coordinates, so a frame that turns the free region far
+// from its predecessor (a cut, a jump in time) starts no better than from the edit: reset() between
+// shots. Measured (bench_pinned_cleanup "anim" rows, tests/spin/test_pinned_cleanup.cpp "warm start").
 // Faces whose three corners are pinned never change and are skipped, so the per-frame cost scales with
 // the free region (plus O(n) passes in the Dirichlet solve).
 //
@@ -144,6 +150,10 @@ struct PinnedCleanupOptions {
   /// γ ≥ 0: strength of the pose attraction E_a = γ/A Σ_i a_i m_i |v_i − v1_i|² that holds the free
   /// vertices near the edit (header comment, "Pose attraction"); 0 (default) = pins only.
   double pose_weight = 0;
+  /// Animations: start each frame from the previous frame's result carried along with the edit,
+  /// V = V_edit + (V_out_prev − V_edit_prev) on the free vertices, instead of the harmonic start (header
+  /// comment, "Warm start"). The first frame, and the first after reset(), starts as usual.
+  bool warm_start = false;
   /// Record the area-weighted Q_mean of the whole mesh after every global step (result.q_mean);
   /// costs one pass over all faces per iteration, for convergence reports.
   bool record_quasi_conformal = false;
@@ -190,6 +200,9 @@ class PinnedCleanup {
   /// One frame. Inputs: V_edit (n×3). Output: V_out (n×3; pins copied bit for bit from V_edit). Keeps
   /// its scratch in the object (one cleanup at a time per object); no factorisation.
   PinnedCleanupResult cleanup(const Eigen::MatrixXd& V_edit, Eigen::MatrixXd& V_out);
+
+  /// Forget the previous frame (warm_start): the next cleanup() starts as a first frame.
+  void reset() noexcept;
 
   Eigen::Index vertices() const;
   const Eigen::VectorXi& pins() const;           ///< sorted, without repeats
