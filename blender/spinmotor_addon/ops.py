@@ -203,6 +203,10 @@ class SPINMOTOR_OT_bake_cleanup(MeshOperator, bpy.types.Operator):
     pin_group: StringProperty(
         name="Pin group", default="",
         description="Pin this vertex group's vertices (weight > 0) instead of choosing pins from bone weights")
+    pose_weight: FloatProperty(
+        name="Pose weight", default=10.0, min=0.0,
+        description="Strength of the attraction that holds the soft parts near the armature pose (weights from "
+                    "the bones: 1 on rigid parts, 0 mid-joint); 0 = the pins only. 10 is the library's rig default")
     frame_start: IntProperty(name="Start", default=1, description="First frame to bake")
     frame_end: IntProperty(name="End", default=1, description="Last frame to bake")
     keep: EnumProperty(name="Keep", items=KEEP_ITEMS, default="auto", description="Measure kept by the cleanup")
@@ -217,12 +221,21 @@ class SPINMOTOR_OT_bake_cleanup(MeshOperator, bpy.types.Operator):
         return run_reported(self, lambda: self._run(context))
 
     def _pins(self, sm, obj, V0):
+        """(pins, where they came from, attraction weights or None). The attraction comes from the bone
+        weights (rig defaults: library's pin_attraction_from_weights) whenever the object has them, also
+        with a pin group; without bone weights it is uniform."""
+        try:
+            W, names = md.bone_weights(obj)
+        except AddonError:
+            if not self.pin_group:
+                raise
+            W, names = None, []
+        attraction = None if W is None or self.pose_weight == 0 else sm.pin_attraction_from_weights(W, self.threshold)
         if self.pin_group:
             pins = md.group_members(obj, self.pin_group)
-            return pins, f"vertex group '{self.pin_group}'"
-        W, names = md.bone_weights(obj)
+            return pins, f"vertex group '{self.pin_group}'", attraction
         pins = np.asarray(sm.pins_from_weights(V0, W, self.threshold, self.margin), dtype=np.int64)
-        return pins, f"weights >= {self.threshold:g} of {len(names)} bones, margin {self.margin:g}"
+        return pins, f"weights >= {self.threshold:g} of {len(names)} bones, margin {self.margin:g}", attraction
 
     def _run(self, context):
         sm = spinmotor_module(context)
@@ -231,10 +244,16 @@ class SPINMOTOR_OT_bake_cleanup(MeshOperator, bpy.types.Operator):
             raise AddonError(f"frame range {self.frame_start}..{self.frame_end} is empty")
         scene = context.scene
         V0, F, tri_poly = rest_mesh(sm, obj)
-        pins, source = self._pins(sm, obj, V0)
+        pins, source, attraction = self._pins(sm, obj, V0)
+        extra = (self.keep, self.max_iterations, self.pose_weight,
+                 None if attraction is None else hash(np.asarray(attraction).tobytes()))
         try:
-            cleaner = cached(obj, "cleanup", _fingerprint(V0, F, pins, extra=(self.keep, self.max_iterations)),
-                             lambda: sm.PinnedCleanup(V0, F, pins, keep=self.keep, max_iterations=self.max_iterations))
+            # warm_start: the frames are cleaned in order, each from the previous frame's correction.
+            cleaner = cached(obj, "cleanup", _fingerprint(V0, F, pins, extra=extra),
+                             lambda: sm.PinnedCleanup(V0, F, pins, keep=self.keep, max_iterations=self.max_iterations,
+                                                      pose_weight=self.pose_weight, attraction=attraction,
+                                                      warm_start=True))
+            cleaner.reset()  # a cached cleaner remembers the last frame of the previous bake
         except sm.Error as e:
             raise AddonError(f"{obj.name} ({len(pins)} pins from {source}): "
                              + md.polygon_note(str(e), tri_poly)) from None

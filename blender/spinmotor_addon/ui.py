@@ -29,6 +29,8 @@ class SpinmotorSettings(bpy.types.PropertyGroup):
                              description="Pin vertices whose dominant bone weight is at least this")
     margin: FloatProperty(name="Margin", default=0.0, min=0.0, unit='LENGTH',
                           description="...farther than this from every blended vertex")
+    pose_weight: FloatProperty(name="Pose weight", default=10.0, min=0.0,
+                               description="Hold the soft parts near the armature pose (0 = the pins only)")
     frame_start: IntProperty(name="Start", default=1)
     frame_end: IntProperty(name="End", default=1)
     keep: EnumProperty(name="Keep", items=ops.KEEP_ITEMS, default="auto")
@@ -64,13 +66,14 @@ class SPINMOTOR_PT_panel(bpy.types.Panel):
             row = box.row(align=True)
             row.prop(s, "threshold")
             row.prop(s, "margin")
+        box.prop(s, "pose_weight")
         row = box.row(align=True)
         row.prop(s, "frame_start")
         row.prop(s, "frame_end")
         box.prop(s, "keep")
         box.prop(s, "output")
         op = box.operator(ops.SPINMOTOR_OT_bake_cleanup.bl_idname, icon='SHAPEKEY_DATA')
-        for name in ("pin_group", "threshold", "margin", "frame_start", "frame_end", "keep", "output"):
+        for name in ("pin_group", "threshold", "margin", "pose_weight", "frame_start", "frame_end", "keep", "output"):
             setattr(op, name, getattr(s, name))
         if not s.pin_group:
             op = box.operator(ops.SPINMOTOR_OT_pins_to_group.bl_idname, icon='GROUP_VERTEX')

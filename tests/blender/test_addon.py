@@ -273,11 +273,17 @@ def test_bake_cleanup(sm, addon):
     assert np.array_equal(np.sort(L["pins"]), np.sort(pins)), "pins differ from pins_from_weights"
     z = V0[pins, 2]
     assert np.all((z < 1.55) | (z > 4.45)), "a pin inside the blend band"
-    # The direct module call on the same arrays gives the same result.
-    direct = sm.PinnedCleanup(V0, F, pins).cleanup(E, full=True)
+    # The direct module call on the same arrays, with the rig defaults (pose attraction γ = 10, weights from
+    # the bones), gives the same result.
+    attraction = sm.pin_attraction_from_weights(W32)
+    direct = sm.PinnedCleanup(V0, F, pins, pose_weight=10.0, attraction=attraction).cleanup(E, full=True)
     d = diag(E)
     dev = np.abs(direct["V"] - V).max() / d
     assert dev <= 1e-12, f"add-on vs direct call: {dev:.3e}"
+    # The attraction holds the pose: nearer the armature's result than the pins-only cleanup.
+    pins_only = sm.PinnedCleanup(V0, F, pins).cleanup(E)
+    assert np.linalg.norm(V - E) < 0.8 * np.linalg.norm(pins_only - E), (np.linalg.norm(V - E),
+                                                                         np.linalg.norm(pins_only - E))
     pin_err = np.linalg.norm(V[pins] - E[pins], axis=1).max() / d
     assert pin_err <= 1e-9, pin_err
     q_lbs, qmax_lbs, _ = quality(V0, F, E)
