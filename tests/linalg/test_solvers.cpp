@@ -1,4 +1,4 @@
-// Sparse solvers (mesh/cholesky_solver.hpp, lu_solver.hpp, dirichlet_solver.hpp): exact discrete
+// Sparse solvers (linalg/cholesky_solver.hpp, lu_solver.hpp, dirichlet_solver.hpp): exact discrete
 // harmonic functions, agreement with Eigen's own factorizations, many right-hand sides, refactoring,
 // and the errors for singular, indefinite and under-constrained systems.
 #include <Eigen/SparseCholesky>
