@@ -48,6 +48,7 @@ ArapDeformer ArapDeformer::bind(const Mesh& rest, std::span<const Handle> handle
   if (!(options.tolerance >= 0.0) || !std::isfinite(options.tolerance))
     throw Error(std::string(kWho) + ": tolerance must be finite and >= 0, got " +
                 std::to_string(options.tolerance));
+  require_ordering(options.ordering, Options::kOrderings, kWho);
   if (handles.empty())
     throw Error(std::string(kWho) +
                 ": needs at least one handle (ARAP is determined only up to a rigid motion)");

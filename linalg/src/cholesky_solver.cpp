@@ -152,7 +152,9 @@ template <class Scalar>
 BasicCholeskySolver<Scalar>::BasicCholeskySolver() : BasicCholeskySolver(Options{}) {}
 template <class Scalar>
 BasicCholeskySolver<Scalar>::BasicCholeskySolver(const Options& options)
-    : impl_(std::make_unique<Impl>(options)) {}
+    : impl_(std::make_unique<Impl>(options)) {
+  require_ordering(options.ordering, kOrderings, kWho);
+}
 template <class Scalar>
 BasicCholeskySolver<Scalar>::~BasicCholeskySolver() = default;
 template <class Scalar>
@@ -181,8 +183,9 @@ void BasicCholeskySolver<Scalar>::analyze(const SparseMatrix& A) {
         return CHOLMOD_METIS;
       case Ordering::NESDIS:
         return CHOLMOD_NESDIS;
+      default:  // rejected by the constructor
+        return CHOLMOD_AMD;
     }
-    return CHOLMOD_AMD;
   }();
   cholmod_sparse s = Impl::view(A);
   m.L = cholmod_analyze(&s, &m.common);

@@ -186,7 +186,7 @@ DiracSpectrum dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     }
   const bool constants = (rho.array() == 0.0).all();
 
-  const DiracAssembly as(V, F, VertexOrdering::AMD);
+  const DiracAssembly as(V, F, Ordering::AMD);
   Eigen::SparseMatrix<double> K = as.pattern(), G = as.pattern();
   as.normal_matrix(rho, {}, K);
   as.mixed_matrix(rho, {}, G);

@@ -26,18 +26,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-CholeskySolver::Ordering to_cholmod(VertexOrdering o) {
-  switch (o) {
-    case VertexOrdering::Natural:
-      return CholeskySolver::Ordering::Natural;
-    case VertexOrdering::AMD:
-      return CholeskySolver::Ordering::AMD;
-    case VertexOrdering::METIS:
-      return CholeskySolver::Ordering::METIS;
-  }
-  return CholeskySolver::Ordering::AMD;
-}
-
 // y = K x for K stored as its lower triangle (Hermitian for complex K).
 template <class Scalar>
 Eigen::Matrix<Scalar, Eigen::Dynamic, 1> sym_mul(const Eigen::SparseMatrix<Scalar>& K,
@@ -383,6 +371,7 @@ struct SpinTransform::Impl {
 
 SpinTransform::SpinTransform(const Mesh& mesh, const SpinTransformOptions& options)
     : impl_(std::make_unique<Impl>(options)) {
+  require_ordering(options.ordering, kVertexOrderings, "SpinTransform");
   const auto t0 = Clock::now();
   Impl& s = *impl_;
   const SpinTransformOptions& o = s.opt;
@@ -452,14 +441,14 @@ SpinTransform::SpinTransform(const Mesh& mesh, const SpinTransformOptions& optio
   }
 
   // Eigen matrix: vertex ordering, pattern, symbolic analysis.
-  const VertexOrdering vord = o.order_full_matrix ? VertexOrdering::Natural : o.ordering;
+  const Ordering vord = o.order_full_matrix ? Ordering::Natural : o.ordering;
   s.as = std::make_unique<DiracAssembly>(s.V, s.F, vord, reduced, U);
   // Poisson: the cotangent Laplacian and its factor, on a second thread.
   s.poisson_ready = std::async(std::launch::async, [&s] { s.prepare_poisson(); });
   s.complex = o.complex_form && !s.as->has_reductions();
   if (o.order_full_matrix) {
-    s.chol = CholeskySolver({.ordering = to_cholmod(o.ordering), .supernodal = o.supernodal});
-    s.cchol = ComplexCholeskySolver({.ordering = to_cholmod(o.ordering), .supernodal = o.supernodal});
+    s.chol = CholeskySolver({.ordering = o.ordering, .supernodal = o.supernodal});
+    s.cchol = ComplexCholeskySolver({.ordering = o.ordering, .supernodal = o.supernodal});
   }
   if (o.problem == SpinEigenProblem::Standard) {
     // V = M_V^{-1/2}, rescaled to mean 1 (§5.5).

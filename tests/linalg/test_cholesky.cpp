@@ -65,7 +65,7 @@ Eigen::SparseMatrix<cd> magnetic_laplacian(const Mesh& s, double shift, Eigen::M
 template <class Scalar>
 void check_singularity_rule() {
   using Solver = BasicCholeskySolver<Scalar>;
-  for (auto ordering : {CholeskyOrdering::Natural, CholeskyOrdering::AMD})
+  for (auto ordering : {Ordering::Natural, Ordering::AMD})
     for (bool super : {true, false}) {
       INFO("supernodal " << super << ", ordering " << static_cast<int>(ordering));
       Solver accepted({ordering, super});
@@ -115,8 +115,7 @@ TEST_CASE("Cholesky: complex Hermitian solves agree with a dense LLᴴ, for ever
   Eigen::MatrixXcd B(n, 3);
   for (Eigen::Index i = 0; i < n; ++i) B.row(i) << cd(s.V(i, 0), s.V(i, 1)), cd(1.0, 0.0), cd(0.0, s.V(i, 2));
   const Eigen::MatrixXcd Xref = dense.llt().solve(B);
-  for (auto ordering : {CholeskyOrdering::Auto, CholeskyOrdering::Natural, CholeskyOrdering::AMD,
-                        CholeskyOrdering::METIS, CholeskyOrdering::NESDIS})
+  for (auto ordering : {Ordering::Auto, Ordering::Natural, Ordering::AMD, Ordering::METIS, Ordering::NESDIS})
     for (bool super : {true, false}) {
       INFO("supernodal " << super << ", ordering " << static_cast<int>(ordering));
       ComplexCholeskySolver c({ordering, super});
@@ -141,7 +140,7 @@ TEST_CASE("Cholesky: the partial solves compose to A⁻¹ and L⁻¹P is a squar
   Eigen::MatrixXd B(n, 2);
   B << s.V.col(0), Eigen::VectorXd::Ones(n);
   const Eigen::MatrixXcd Bc = B.cast<cd>() + cd(0, 1) * Eigen::MatrixXd(s.V.leftCols(2)).cast<cd>();
-  for (auto ordering : {CholeskyOrdering::Natural, CholeskyOrdering::AMD})
+  for (auto ordering : {Ordering::Natural, Ordering::AMD})
     for (bool super : {true, false}) {
       INFO("supernodal " << super << ", ordering " << static_cast<int>(ordering));
       {
@@ -179,7 +178,7 @@ TEST_CASE("Cholesky: complex misuse and indefinite matrices are reported", "[sol
   Eigen::SparseMatrix<cd> N = I;
   N.coeffRef(1, 1) = -1.0;
   for (bool super : {true, false}) {
-    ComplexCholeskySolver d({CholeskyOrdering::Natural, super});
+    ComplexCholeskySolver d({Ordering::Natural, super});
     CHECK_THROWS_WITH(d.compute(N), Catch::Contains("not positive definite"));
   }
   N.coeffRef(1, 1) = cd(std::nan(""), 0.0);

@@ -6,6 +6,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/linalg/cholesky_solver.hpp"
@@ -309,4 +311,33 @@ TEST_CASE("solvers accept an empty system", "[solvers]") {
   CHECK_NOTHROW(lu.compute(A));
   CHECK(c.solve(MatrixXd(0, 2)).cols() == 2);
   CHECK(lu.solve(MatrixXd(0, 2)).cols() == 2);
+}
+
+TEST_CASE("Ordering: one name table, each solver accepts its subset and names the others", "[solvers]") {
+  CHECK(option_values<Ordering>() == std::vector<std::string>{"auto", "natural", "amd", "metis", "nesdis",
+                                                              "nested-dissection", "colamd", "mmd-ata",
+                                                              "mmd-at-plus-a"});
+  for (const std::string& name : option_values<Ordering>())
+    CHECK(option_name(parse_option<Ordering>(name)) == name);
+  CHECK_THROWS_WITH(parse_option<Ordering>("mmd_ata"), Catch::Contains("unknown ordering 'mmd_ata'"));
+  // CholeskySolver: auto, natural, amd, metis, nesdis; LUSolver: natural, colamd, mmd-ata, mmd-at-plus-a.
+  for (Ordering o : CholeskySolver::kOrderings) CHECK_NOTHROW(CholeskySolver({o, true}));
+  for (Ordering o : LUSolver::kOrderings) CHECK_NOTHROW(LUSolver({o, 1.0}));
+  try {
+    CholeskySolver({Ordering::COLAMD, true});
+    FAIL("CholeskySolver accepted colamd");
+  } catch (const Error& e) {
+    CHECK(e.kind() == Error::Kind::BadInput);
+    CHECK(std::string(e.what()) ==
+          "CholeskySolver: ordering 'colamd' is not supported here (one of: auto, natural, amd, metis, "
+          "nesdis)");
+  }
+  CHECK_THROWS_WITH(ComplexCholeskySolver({Ordering::NestedDissection, true}),
+                    Catch::Contains("ordering 'nested-dissection' is not supported"));
+  CHECK_THROWS_WITH(
+      LUSolver({Ordering::AMD, 1.0}),
+      Catch::Contains("LUSolver: ordering 'amd' is not supported here (one of: natural, colamd, "
+                      "mmd-ata, mmd-at-plus-a)"));
+  CHECK(ordering_values(LUSolver::kOrderings) ==
+        std::vector<std::string>{"natural", "colamd", "mmd-ata", "mmd-at-plus-a"});
 }

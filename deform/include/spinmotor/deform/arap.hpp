@@ -59,6 +59,7 @@
 #include "spinmotor/deform/deformer.hpp"
 #include "spinmotor/deform/motor_blend_field.hpp"
 #include "spinmotor/linalg/cholesky_solver.hpp"
+#include "spinmotor/linalg/ordering.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 
 namespace spinmotor {
@@ -114,11 +115,13 @@ class ArapDeformer {
     enum class Factorization { Auto, Simplicial, Supernodal };
     Factorization factorization = Factorization::Auto;
     static constexpr Eigen::Index kSupernodalFrom = 300'000;
-    /// Fill-reducing ordering of L_FF. Auto: both AMD and a geometric nested dissection (recursive
-    /// median splits of the free vertices along their longest axis, the shorter boundary as
-    /// separator) are analysed and the one with fewer factorization flops is used (AMD wins on scanned
-    /// meshes, nested dissection on long tubes: docs/performance.md, "ARAP").
-    enum class Ordering { Auto, AMD, NestedDissection };
+    /// Fill-reducing ordering of L_FF (ordering.hpp): auto, amd or nested-dissection (others: Error).
+    /// Auto: both AMD and a geometric nested dissection (recursive median splits of the free vertices
+    /// along their longest axis, the shorter boundary as separator) are analysed and the one with
+    /// fewer factorization flops is used (AMD wins on scanned meshes, nested dissection on long tubes:
+    /// docs/performance.md, "ARAP").
+    using Ordering = spinmotor::Ordering;
+    static constexpr Ordering kOrderings[] = {Ordering::Auto, Ordering::AMD, Ordering::NestedDissection};
     Ordering ordering = Ordering::Auto;
   };
 

@@ -18,7 +18,8 @@
 // lower triangle is read; the upper one is ignored, not checked). Column-major, compressed Eigen
 // storage with int indices, viewed by CHOLMOD without copying.
 //
-// Ordering (fill-reducing permutation, computed once per analyze()):
+// Ordering (ordering.hpp; the fill-reducing permutation, computed once per analyze()); the constructor
+// throws Error (BadInput) for the orderings of other solvers (colamd, nested-dissection, ...):
 //   Auto   (default) AMD below 500,000 rows, METIS from there on: AMD's ordering is cheap and wins a
 //          one-off solve up to a few 100k rows; nested dissection halves the factorization flops at 1M
 //          (the measured ordering study: docs/performance.md, "Cholesky ordering").
@@ -45,14 +46,17 @@
 #include <complex>
 #include <memory>
 
-namespace spinmotor {
+#include "spinmotor/linalg/ordering.hpp"
 
-enum class CholeskyOrdering { Auto, Natural, AMD, METIS, NESDIS };
+namespace spinmotor {
 
 template <class Scalar>  // double or std::complex<double>
 class BasicCholeskySolver {
  public:
-  using Ordering = CholeskyOrdering;
+  using Ordering = spinmotor::Ordering;
+  /// The orderings this solver implements.
+  static constexpr Ordering kOrderings[] = {Ordering::Auto, Ordering::Natural, Ordering::AMD, Ordering::METIS,
+                                            Ordering::NESDIS};
   using SparseMatrix = Eigen::SparseMatrix<Scalar>;
   using Matrix = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
   /// Which system solve() solves (A = Pᵀ L Lᴴ P): A X = B, L X = B, Lᴴ X = B, X = P B, X = Pᵀ B.
