@@ -35,6 +35,7 @@ struct BasicCholeskySolver<Scalar>::Impl {
   Eigen::Index n = -1;
   std::size_t pattern = 0;
   bool factorized = false;
+  Ordering used = Ordering::Natural;
 
   explicit Impl(const Options& o) : options(o) {
     use_single_threaded_blas();
@@ -171,6 +172,8 @@ void BasicCholeskySolver<Scalar>::analyze(const SparseMatrix& A) {
   m.n = A.rows();
   m.pattern = detail::pattern_hash(A);
   if (m.n == 0) return;  // nothing to factor; solve() returns 0×k
+  m.used = m.options.ordering == Ordering::Auto ? (m.n < kAutoMetisRows ? Ordering::AMD : Ordering::METIS)
+                                                : m.options.ordering;
   m.common.method[0].ordering = [&] {
     switch (m.options.ordering) {
       case Ordering::Auto:
@@ -190,6 +193,21 @@ void BasicCholeskySolver<Scalar>::analyze(const SparseMatrix& A) {
   cholmod_sparse s = Impl::view(A);
   m.L = cholmod_analyze(&s, &m.common);
   if (!m.L) m.check_status("analyze"), throw numerical_error(std::string(kWho) + ": CHOLMOD analyze failed");
+  if (m.options.try_natural && m.used != Ordering::Natural) {
+    const double fl = m.common.fl, lnz = m.common.lnz;
+    m.common.method[0].ordering = CHOLMOD_NATURAL;
+    cholmod_factor* natural = cholmod_analyze(&s, &m.common);
+    if (!natural)
+      m.check_status("analyze"), throw numerical_error(std::string(kWho) + ": CHOLMOD analyze failed");
+    if (m.common.fl < fl) {
+      cholmod_free_factor(&m.L, &m.common);
+      m.L = natural;
+      m.used = Ordering::Natural;
+    } else {
+      cholmod_free_factor(&natural, &m.common);
+      m.common.fl = fl, m.common.lnz = lnz;  // factor_flops() and factor_nonzeros() of the kept one
+    }
+  }
 }
 
 template <class Scalar>
@@ -299,6 +317,11 @@ double BasicCholeskySolver<Scalar>::factor_flops() const {
 template <class Scalar>
 const typename BasicCholeskySolver<Scalar>::Options& BasicCholeskySolver<Scalar>::options() const {
   return impl_->options;
+}
+
+template <class Scalar>
+Ordering BasicCholeskySolver<Scalar>::ordering_used() const {
+  return impl_->used;
 }
 
 template class BasicCholeskySolver<double>;

@@ -67,6 +67,10 @@ class BasicCholeskySolver {
     /// Supernodal LLᴴ (dense BLAS kernels on supernodes; the default) or simplicial LDLᴴ (up-looking,
     /// no BLAS; can win on very small matrices).
     bool supernodal = true;
+    /// Also analyse the natural order (the rows as given, e.g. already ordered by the caller) and keep
+    /// whichever of the two predicts fewer factorization flops (ARAP: AMD against its geometric nested
+    /// dissection). Costs a second symbolic analysis.
+    bool try_natural = false;
   };
 
   BasicCholeskySolver();
@@ -96,6 +100,8 @@ class BasicCholeskySolver {
   /// Floating-point operations of the numeric factorization predicted by analyze().
   [[nodiscard]] double factor_flops() const;
   [[nodiscard]] const Options& options() const;
+  /// The ordering the last analyze() used: Natural when try_natural chose it, AMD or METIS for Auto.
+  [[nodiscard]] Ordering ordering_used() const;
 
  private:
   struct Impl;
