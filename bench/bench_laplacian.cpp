@@ -311,34 +311,7 @@ void lu_ordering(benchmark::State& state, const std::string& key, Size size, LUS
                     "nnz(L+U) " + std::to_string(static_cast<long>(lu.factor_nonzeros()))};
 }
 
-const char* name(CholeskySolver::Ordering o) {
-  switch (o) {
-    case CholeskySolver::Ordering::Auto:
-      return "auto";
-    case CholeskySolver::Ordering::Natural:
-      return "natural";
-    case CholeskySolver::Ordering::AMD:
-      return "amd";
-    case CholeskySolver::Ordering::METIS:
-      return "metis";
-    case CholeskySolver::Ordering::NESDIS:
-      return "nesdis";
-  }
-  return "?";
-}
-const char* name(LUSolver::Ordering o) {
-  switch (o) {
-    case LUSolver::Ordering::Natural:
-      return "natural";
-    case LUSolver::Ordering::COLAMD:
-      return "colamd";
-    case LUSolver::Ordering::MMD_AtA:
-      return "mmd_ata";
-    case LUSolver::Ordering::MMD_AtPlusA:
-      return "mmd_at_plus_a";
-  }
-  return "?";
-}
+std::string name(Ordering o) { return std::string(option_name(o)); }
 
 }  // namespace
 

@@ -99,7 +99,7 @@ SpinTransformOptions spinxform_base() {
   SpinTransformOptions o = SpinTransformOptions::spinxform();
   o.complex_form = false;
   o.order_full_matrix = true;
-  o.ordering = VertexOrdering::AMD;
+  o.ordering = Ordering::AMD;
   return o;
 }
 
@@ -164,7 +164,7 @@ int main(int argc, char** argv) {
       {"amd",
        [] {
          SpinTransformOptions o;
-         o.ordering = VertexOrdering::AMD;
+         o.ordering = Ordering::AMD;
          return o;
        }},
       {"simplicial",

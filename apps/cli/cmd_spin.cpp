@@ -77,7 +77,7 @@ const cli::RegisterCommand reg{
           ->check(CLI::IsMember(option_values<SpinScale>()))
           ->capture_default_str();
       sub.add_option("--ordering", a->ordering, "Fill-reducing ordering of the vertex graph")
-          ->check(CLI::IsMember(option_values<VertexOrdering>()))
+          ->check(CLI::IsMember(vertex_ordering_values()))
           ->capture_default_str();
       sub.add_flag("--real-form", a->real_form,
                    "Factor the real 4n x 4n matrix instead of the complex 2n x 2n one");
@@ -92,7 +92,7 @@ const cli::RegisterCommand reg{
           o.iterations = a->iterations;
           o.scale = parse_option<SpinScale>(a->scale, "spin: --scale: ");
         }
-        o.ordering = parse_option<VertexOrdering>(a->ordering, "spin: --ordering: ");
+        o.ordering = parse_option<Ordering>(a->ordering, "spin: --ordering: ");
         o.complex_form = !a->real_form;
 
         // Image mode works on the mesh centred and scaled to max |v| = 1 (rho has units 1/length and

@@ -11,7 +11,6 @@
 #include "spinmotor/deform/arap_rotation.hpp"
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
-#include "spinmotor/mesh/topology.hpp"
 #include "spinmotor/mesh/validate.hpp"  // require(): names a degenerate face
 
 namespace spinmotor {
@@ -48,6 +47,7 @@ ArapDeformer ArapDeformer::bind(const Mesh& rest, std::span<const Handle> handle
   if (!(options.tolerance >= 0.0) || !std::isfinite(options.tolerance))
     throw Error(std::string(kWho) + ": tolerance must be finite and >= 0, got " +
                 std::to_string(options.tolerance));
+  require_ordering(options.ordering, Options::kOrderings, kWho);
   if (handles.empty())
     throw Error(std::string(kWho) +
                 ": needs at least one handle (ARAP is determined only up to a rigid motion)");
@@ -239,35 +239,8 @@ void ArapDeformer::bind_handles(std::span<const Handle> handles) {
       cons_handle.push_back(-1);
     }
 
-  // Every component needs a handle vertex (ogre.obj: 44 components).
-  int count = 0;
-  const Eigen::VectorXi comp = vertex_components(F_, n, &count);
-  std::vector<char> anchored(count, 0);
-  std::vector<int> size(count, 0), first(count, -1);
-  for (int i = 0; i < n; ++i) {
-    ++size[comp[i]];
-    if (first[comp[i]] < 0) first[comp[i]] = i;
-  }
-  for (int v : cons) anchored[comp[v]] = 1;
-  std::vector<int> missing;
-  for (int c = 0; c < count; ++c)
-    if (!anchored[c]) missing.push_back(c);
-  if (!missing.empty()) {
-    const int c = missing[0];
-    std::ostringstream s;
-    s << kWho << ": connected component " << c << " of " << count << " (" << size[c]
-      << " vertices, e.g. vertex " << first[c]
-      << ") has no handle vertex, so its position is undetermined: add a handle on it";
-    if (missing.size() > 1) {
-      s << " (" << missing.size() << " components have none:";
-      for (std::size_t k = 0; k < std::min<std::size_t>(missing.size(), 8); ++k)
-        s << " " << missing[k] << " (vertex " << first[missing[k]] << ")";
-      if (missing.size() > 8) s << " ...";
-      s << ")";
-    }
-    throw Error(s.str());
-  }
-
+  // Every component needs a handle vertex (ogre.obj: 44 components): checked by the DirichletSolver
+  // in factorize().
   const auto t_factor = Clock::now();
   factorize(cons);
   constrained_ = Eigen::Map<const Eigen::VectorXi>(cons.data(), static_cast<Eigen::Index>(cons.size()));
@@ -338,80 +311,61 @@ void nested_dissection(const ArapDeformer::RowMatrix3& P, const std::vector<int>
 
 }  // namespace
 
+namespace {
+
+/// ARAP's words for the components without a handle (the DirichletSolver found them).
+[[noreturn]] void throw_floating(const FloatingComponentError& e) {
+  const auto& missing = e.floating();
+  const FloatingComponentError::Component& c = missing[0];
+  std::ostringstream s;
+  s << kWho << ": connected component " << c.id << " of " << e.count() << " (" << c.size
+    << " vertices, e.g. vertex " << c.first
+    << ") has no handle vertex, so its position is undetermined: add a handle on it";
+  if (missing.size() > 1) {
+    s << " (" << missing.size() << " components have none:";
+    for (std::size_t k = 0; k < std::min<std::size_t>(missing.size(), 8); ++k)
+      s << " " << missing[k].id << " (vertex " << missing[k].first << ")";
+    if (missing.size() > 8) s << " ...";
+    s << ")";
+  }
+  throw Error(s.str());
+}
+
+}  // namespace
+
 void ArapDeformer::factorize(const std::vector<int>& cons) {
   const int n = static_cast<int>(P_.rows());
-  // Free vertices in a geometric nested-dissection order (free_pos_[i] ≥ 0 is the row of vertex i in
-  // L_FF; constrained vertices get −1 − their index in `cons`).
-  free_pos_.assign(n, 0);
-  for (std::size_t r = 0; r < cons.size(); ++r) free_pos_[cons[r]] = -1 - static_cast<int>(r);
+  // Free vertices in a geometric nested-dissection order: the rows of L_FF.
+  std::vector<char> constrained(n, 0);
+  for (int v : cons) constrained[v] = 1;
   std::vector<int> nodes, order;
   for (int i = 0; i < n; ++i)
-    if (free_pos_[i] == 0) nodes.push_back(i);
-  const int nf = static_cast<int>(nodes.size()), nc = static_cast<int>(cons.size());
+    if (!constrained[i]) nodes.push_back(i);
+  const int nf = static_cast<int>(nodes.size());
   order.reserve(nf);
   {
     std::vector<int> label(n, -1);  // constrained vertices never match a label: they are not in the graph
     int next_label = 0;
     nested_dissection(P_, off_, nbr_, nodes, label, next_label, order);
   }
-  for (int k = 0; k < nf; ++k) free_pos_[order[k]] = k;
-  free_order_ = Eigen::Map<Eigen::VectorXi>(order.data(), nf);
 
-  // L_FF (lower triangle, in that order) and L_FC, straight from the one-ring CSR.
-  std::vector<Eigen::Triplet<double>> ff, fc;
-  ff.reserve(static_cast<std::size_t>(nf) * 4);
-  const auto value = [&](int i, int j) { return L_.coeff(i, j); };
-  for (int k = 0; k < nf; ++k) {
-    const int i = order[k];
-    ff.emplace_back(k, k, value(i, i));
-    for (int s = off_[i]; s < off_[i + 1]; ++s) {
-      const int j = nbr_[s], pj = free_pos_[j];
-      const double lij = -w_[s];
-      if (pj >= 0) {
-        if (pj > k) ff.emplace_back(pj, k, lij);  // lower triangle: row > column
-      } else {
-        fc.emplace_back(k, -1 - pj, lij);
-      }
-    }
-  }
-  A_FC_.resize(nf, nc);
-  A_FC_.setFromTriplets(fc.begin(), fc.end());
-  A_FC_.makeCompressed();
-  rhs_.setZero(nf, 3);
-  bind_report_.factor_nonzeros = bind_report_.factor_flops = 0.0;
-  if (nf == 0) {  // every vertex is constrained: nothing to solve
-    chol_ = CholeskySolver();
-    bind_report_.ordering = "none";
-    return;
-  }
-  Eigen::SparseMatrix<double> A(nf, nf);
-  A.setFromTriplets(ff.begin(), ff.end());
-  A.makeCompressed();
-
-  // Fill-reducing ordering: AMD on L_FF, or the nested dissection above as is; with Auto both are
-  // analysed (symbolic only, cheap) and the one with fewer factorization flops is factorized.
+  // Fill-reducing ordering: AMD on L_FF, or the nested dissection above as is (natural); with Auto
+  // both are analysed (symbolic only, cheap) and the one with fewer factorization flops is factorized.
   const bool supernodal =
       options_.factorization == Options::Factorization::Supernodal ||
       (options_.factorization == Options::Factorization::Auto && nf >= Options::kSupernodalFrom);
-  const auto make = [&](CholeskySolver::Ordering o) { return CholeskySolver({o, supernodal}); };
+  DirichletSolver::Options o;
+  o.cholesky.supernodal = supernodal;
+  o.cholesky.ordering = options_.ordering == Ordering::NestedDissection ? Ordering::Natural : Ordering::AMD;
+  o.cholesky.try_natural = options_.ordering == Ordering::Auto;
+  dirichlet_ = DirichletSolver(o);
+  L_.makeCompressed();
   try {
-    if (options_.ordering == Options::Ordering::AMD) {
-      chol_ = make(CholeskySolver::Ordering::AMD);
-      chol_.analyze(A);
-      bind_report_.ordering = "amd";
-    } else if (options_.ordering == Options::Ordering::NestedDissection) {
-      chol_ = make(CholeskySolver::Ordering::Natural);
-      chol_.analyze(A);
-      bind_report_.ordering = "nested-dissection";
-    } else {
-      CholeskySolver amd = make(CholeskySolver::Ordering::AMD), nd = make(CholeskySolver::Ordering::Natural);
-      amd.analyze(A);
-      nd.analyze(A);
-      const bool use_nd = nd.factor_flops() < amd.factor_flops();
-      chol_ = std::move(use_nd ? nd : amd);
-      bind_report_.ordering = use_nd ? "nested-dissection" : "amd";
-    }
-    chol_.factorize(A);
+    dirichlet_.bind(L_,
+                    Eigen::Map<const Eigen::VectorXi>(cons.data(), static_cast<Eigen::Index>(cons.size())),
+                    Eigen::Map<const Eigen::VectorXi>(order.data(), nf), DirichletSolver::Kind::SPD);
+  } catch (const FloatingComponentError& e) {
+    throw_floating(e);
   } catch (const Error& e) {
     throw Error(std::string(kWho) +
                     ": factorizing the free block of the Laplacian failed (its row r is vertex "
@@ -419,19 +373,15 @@ void ArapDeformer::factorize(const std::vector<int>& cons) {
                     e.what(),
                 e.kind());
   }
-  bind_report_.factor_nonzeros = chol_.factor_nonzeros();
-  bind_report_.factor_flops = chol_.factor_flops();
+  rhs_.setZero(nf, 3);
+  const CholeskySolver& chol = dirichlet_.cholesky();
+  bind_report_.ordering =
+      nf == 0 ? "none"
+              : std::string(option_name(chol.ordering_used() == Ordering::Natural ? Ordering::NestedDissection
+                                                                                  : Ordering::AMD));
+  bind_report_.factor_nonzeros = nf == 0 ? 0.0 : chol.factor_nonzeros();
+  bind_report_.factor_flops = nf == 0 ? 0.0 : chol.factor_flops();
   bind_report_.supernodal = supernodal;
-}
-
-Eigen::MatrixXd ArapDeformer::solve_dirichlet(const Eigen::MatrixXd& values) const {
-  // L_FF X_F = −L_FC X_C; X_C = values (rows in constrained_ order).
-  Eigen::MatrixXd X(P_.rows(), values.cols());
-  for (Eigen::Index r = 0; r < constrained_.size(); ++r) X.row(constrained_[r]) = values.row(r);
-  if (free_order_.size() == 0) return X;
-  const Eigen::MatrixXd XF = chol_.solve(-(A_FC_ * values));
-  for (Eigen::Index k = 0; k < free_order_.size(); ++k) X.row(free_order_[k]) = XF.row(k);
-  return X;
 }
 
 void ArapDeformer::bind_harmonic() {
@@ -444,7 +394,7 @@ void ArapDeformer::bind_harmonic() {
     Eigen::MatrixXd lambda = Eigen::MatrixXd::Zero(constrained_.size(), k);
     for (Eigen::Index r = 0; r < constrained_.size(); ++r)
       lambda(r, std::max(constrained_handle_[r], 0)) = 1.0;
-    harmonic_ = MotorBlendField::bind(Eigen::MatrixXd(P_), MotorBlendField::Weights(solve_dirichlet(lambda)),
+    harmonic_ = MotorBlendField::bind(Eigen::MatrixXd(P_), MotorBlendField::Weights(dirichlet_.solve(lambda)),
                                       ga::Blend::Log);
     has_harmonic_ = true;
   }
@@ -561,24 +511,25 @@ double ArapDeformer::local_step() {
 }
 
 void ArapDeformer::global_step() {
-  const Eigen::Index nf = free_order_.size();
+  const Eigen::VectorXi& free_order = dirichlet_.free();
+  const Eigen::Index nf = free_order.size();
   if (nf == 0) return;
   auto t = Clock::now();
   // Eq. (12)–(13): rhs_k = B_i − (L_FC X_C)_k for the free vertex i of row k, B_i = R_i h_i + Σ_j R_j h_ij.
 #pragma omp parallel for schedule(static) if (parallel::worth(nf, parallel::kRotationFit))
   for (Eigen::Index k = 0; k < nf; ++k) {
-    const int i = free_order_[k];
+    const int i = free_order[k];
     Eigen::Vector3d b = Rm_[i] * h_self_.row(i).transpose();
     for (int s = off_[i]; s < off_[i + 1]; ++s) b.noalias() += Rm_[nbr_[s]] * h_.row(s).transpose();
     rhs_(k, 0) = b[0] - FCX_(k, 0), rhs_(k, 1) = b[1] - FCX_(k, 1), rhs_(k, 2) = b[2] - FCX_(k, 2);
   }
   report_.rhs_ms += ms_since(t);
   t = Clock::now();
-  XF_ = chol_.solve(rhs_);  // L_FF X_F = B_F − L_FC X_C, three columns at once
+  XF_ = dirichlet_.solve_free(rhs_);  // L_FF X_F = B_F − L_FC X_C, three columns at once
   report_.solve_ms += ms_since(t);
 #pragma omp parallel for schedule(static) if (parallel::worth(nf, parallel::kRotationFit))
   for (Eigen::Index k = 0; k < nf; ++k) {
-    const int i = free_order_[k];
+    const int i = free_order[k];
     X_(i, 0) = XF_(k, 0), X_(i, 1) = XF_(k, 1), X_(i, 2) = XF_(k, 2);
   }
 }
@@ -614,7 +565,8 @@ void ArapDeformer::pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out)
     }
   }
   for (Eigen::Index r = 0; r < constrained_.size(); ++r) X_.row(constrained_[r]) = values_.row(r);
-  FCX_.noalias() = A_FC_ * values_;  // the handles' share of the right-hand side, fixed during the iteration
+  // The handles' share of the right-hand side, fixed during the iteration.
+  FCX_.noalias() = dirichlet_.free_constrained_block() * values_;
   report_.initial_ms = ms_since(t0);
 
   double E_prev = 0.0;

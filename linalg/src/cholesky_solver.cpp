@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <string>
+#include <type_traits>
 
 #include "solver_detail.hpp"
 #include "spinmotor/core/error.hpp"
@@ -17,15 +19,23 @@ constexpr double kSingular = 1e3 * std::numeric_limits<double>::epsilon();
 // Ordering::Auto switches from AMD to METIS at this many rows (bench_laplacian: AMD is faster
 // overall at 100k, METIS at 1M).
 constexpr Eigen::Index kAutoMetisRows = 500000;
+constexpr const char* kWho = "CholeskySolver";
 }  // namespace
 
-struct CholeskySolver::Impl {
+template <class Scalar>
+struct BasicCholeskySolver<Scalar>::Impl {
+  static constexpr bool kComplex = !std::is_same_v<Scalar, double>;
+  // Complex values are interleaved (re, im) pairs, as std::complex<double> stores them.
+  static constexpr int kXtype = kComplex ? CHOLMOD_COMPLEX : CHOLMOD_REAL;
+  static constexpr int kStride = kComplex ? 2 : 1;  // doubles per value in the factor's x array
+
   Options options;
   cholmod_common common{};
   cholmod_factor* L = nullptr;
   Eigen::Index n = -1;
   std::size_t pattern = 0;
   bool factorized = false;
+  Ordering used = Ordering::Natural;
 
   explicit Impl(const Options& o) : options(o) {
     use_single_threaded_blas();
@@ -43,17 +53,17 @@ struct CholeskySolver::Impl {
   }
 
   // A view of A's lower triangle: CHOLMOD reads A in place (stype −1 ignores the upper triangle).
-  static cholmod_sparse view(const Eigen::SparseMatrix<double>& A) {
+  static cholmod_sparse view(const SparseMatrix& A) {
     cholmod_sparse s{};
     s.nrow = static_cast<size_t>(A.rows());
     s.ncol = static_cast<size_t>(A.cols());
     s.nzmax = static_cast<size_t>(A.nonZeros());
     s.p = const_cast<int*>(A.outerIndexPtr());
     s.i = const_cast<int*>(A.innerIndexPtr());
-    s.x = const_cast<double*>(A.valuePtr());
+    s.x = const_cast<Scalar*>(A.valuePtr());
     s.stype = -1;
     s.itype = CHOLMOD_INT;
-    s.xtype = CHOLMOD_REAL;
+    s.xtype = kXtype;
     s.dtype = CHOLMOD_DOUBLE;
     s.sorted = 1;
     s.packed = 1;
@@ -62,45 +72,108 @@ struct CholeskySolver::Impl {
 
   void check_status(const char* what) const {
     if (common.status == CHOLMOD_OUT_OF_MEMORY)
-      throw numerical_error(std::string("CholeskySolver: out of memory in CHOLMOD ") + what);
+      throw numerical_error(std::string(kWho) + ": out of memory in CHOLMOD " + what);
     if (common.status == CHOLMOD_TOO_LARGE)
-      throw numerical_error(std::string("CholeskySolver: problem too large for CHOLMOD ") + what);
+      throw numerical_error(std::string(kWho) + ": problem too large for CHOLMOD " + what);
     if (common.status < 0) {
       std::ostringstream s;
-      s << "CholeskySolver: CHOLMOD " << what << " failed (status " << common.status << ")";
+      s << kWho << ": CHOLMOD " << what << " failed (status " << common.status << ")";
       throw numerical_error(s.str());
     }
   }
 
-  [[noreturn]] void throw_not_pd(const Eigen::SparseMatrix<double>& A, long k, const std::string& why) const {
+  [[noreturn]] void throw_not_pd(const SparseMatrix& A, long k, const std::string& why) const {
     // Name the original row of the failing pivot and its component: usually a component that floats.
     const int* perm = static_cast<const int*>(L->Perm);
     const int row = (perm && k >= 0 && k < static_cast<long>(L->n)) ? perm[k] : static_cast<int>(k);
     const detail::GraphComponents g = detail::matrix_components(A);
     std::ostringstream s;
-    s << "CholeskySolver: matrix is not positive definite (CHOLMOD: " << why << "; pivot at row " << row;
+    s << kWho << ": matrix is not positive definite (CHOLMOD: " << why << "; pivot at row " << row;
     if (row >= 0 && row < static_cast<int>(A.rows()))
       s << ", in " << detail::describe_component(g, g.label[row], "row", "rows") << " of " << g.count()
         << " of the matrix graph";
     s << ")";
     throw numerical_error(s.str());
   }
+
+  // Real part of the diagonal entry of column j of a simplicial factor (L(j,j) for LLᴴ, D(j,j) for LDLᴴ;
+  // real for a Hermitian matrix).
+  double simplicial_diagonal(Eigen::Index j) const {
+    const int* p = static_cast<const int*>(L->p);
+    return static_cast<const double*>(L->x)[kStride * static_cast<std::ptrdiff_t>(p[j])];
+  }
+
+  // The pivot checks after a successful CHOLMOD factorization (see the header): D > 0 for LDLᴴ, then
+  // the smallest pivot against the largest diagonal entry of A.
+  void check_pivots(const SparseMatrix& A) const {
+    if (!L->is_ll)  // simplicial LDLᴴ succeeds on indefinite matrices: require D > 0
+      for (Eigen::Index j = 0; j < n; ++j)
+        if (const double d = simplicial_diagonal(j); !(d > 0)) {
+          std::ostringstream why;
+          why << "pivot D(" << j << "," << j << ") = " << d;
+          throw_not_pd(A, static_cast<long>(j), why.str());
+        }
+    // A positive semi-definite singular matrix (e.g. a Laplacian with a floating component) ends with
+    // a roundoff pivot of either sign; a positive one passes the factorization. Every pivot of an SPD
+    // matrix is ≥ λ_min(A), so a pivot ≤ kSingular·max_j A(j,j) means cond(A) ≳ 1/kSingular:
+    // numerically singular.
+    double amax = 0;
+    for (Eigen::Index j = 0; j < n; ++j)
+      for (int k = A.outerIndexPtr()[j]; k < A.outerIndexPtr()[j + 1]; ++k)
+        if (A.innerIndexPtr()[k] == j) amax = std::max(amax, std::real(A.valuePtr()[k]));
+    long kmin = 0;
+    double dmin = std::numeric_limits<double>::infinity();  // smallest pivot d_k (= L(k,k)² for LLᴴ)
+    if (!L->is_super) {
+      for (Eigen::Index j = 0; j < n; ++j) {
+        const double x = simplicial_diagonal(j), d = L->is_ll ? x * x : x;
+        if (d < dmin) dmin = d, kmin = static_cast<long>(j);
+      }
+    } else {
+      const int* super = static_cast<const int*>(L->super);
+      const int* pi = static_cast<const int*>(L->pi);
+      const int* px = static_cast<const int*>(L->px);
+      const double* x = static_cast<const double*>(L->x);
+      for (size_t sn = 0; sn < L->nsuper; ++sn) {
+        const int k1 = super[sn], k2 = super[sn + 1], nrows = pi[sn + 1] - pi[sn];
+        for (int k = k1; k < k2; ++k) {
+          const double l = x[kStride * (px[sn] + (k - k1) + static_cast<long>(k - k1) * nrows)];
+          if (l * l < dmin) dmin = l * l, kmin = k;
+        }
+      }
+    }
+    if (!(dmin > kSingular * amax)) {
+      std::ostringstream why;
+      why << "numerically singular, smallest pivot " << dmin << " vs largest diagonal entry " << amax;
+      throw_not_pd(A, kmin, why.str());
+    }
+  }
 };
 
-CholeskySolver::CholeskySolver() : CholeskySolver(Options{}) {}
-CholeskySolver::CholeskySolver(const Options& options) : impl_(std::make_unique<Impl>(options)) {}
-CholeskySolver::~CholeskySolver() = default;
-CholeskySolver::CholeskySolver(CholeskySolver&&) noexcept = default;
-CholeskySolver& CholeskySolver::operator=(CholeskySolver&&) noexcept = default;
+template <class Scalar>
+BasicCholeskySolver<Scalar>::BasicCholeskySolver() : BasicCholeskySolver(Options{}) {}
+template <class Scalar>
+BasicCholeskySolver<Scalar>::BasicCholeskySolver(const Options& options)
+    : impl_(std::make_unique<Impl>(options)) {
+  require_ordering(options.ordering, kOrderings, kWho);
+}
+template <class Scalar>
+BasicCholeskySolver<Scalar>::~BasicCholeskySolver() = default;
+template <class Scalar>
+BasicCholeskySolver<Scalar>::BasicCholeskySolver(BasicCholeskySolver&&) noexcept = default;
+template <class Scalar>
+BasicCholeskySolver<Scalar>& BasicCholeskySolver<Scalar>::operator=(BasicCholeskySolver&&) noexcept = default;
 
-void CholeskySolver::analyze(const Eigen::SparseMatrix<double>& A) {
+template <class Scalar>
+void BasicCholeskySolver<Scalar>::analyze(const SparseMatrix& A) {
   Impl& m = *impl_;
-  detail::check_square_finite(A, "CholeskySolver");
+  detail::check_square_finite(A, kWho);
   if (m.L) cholmod_free_factor(&m.L, &m.common);
   m.factorized = false;
   m.n = A.rows();
   m.pattern = detail::pattern_hash(A);
   if (m.n == 0) return;  // nothing to factor; solve() returns 0×k
+  m.used = m.options.ordering == Ordering::Auto ? (m.n < kAutoMetisRows ? Ordering::AMD : Ordering::METIS)
+                                                : m.options.ordering;
   m.common.method[0].ordering = [&] {
     switch (m.options.ordering) {
       case Ordering::Auto:
@@ -113,23 +186,39 @@ void CholeskySolver::analyze(const Eigen::SparseMatrix<double>& A) {
         return CHOLMOD_METIS;
       case Ordering::NESDIS:
         return CHOLMOD_NESDIS;
+      default:  // rejected by the constructor
+        return CHOLMOD_AMD;
     }
-    return CHOLMOD_AMD;
   }();
   cholmod_sparse s = Impl::view(A);
   m.L = cholmod_analyze(&s, &m.common);
-  if (!m.L) m.check_status("analyze"), throw numerical_error("CholeskySolver: CHOLMOD analyze failed");
+  if (!m.L) m.check_status("analyze"), throw numerical_error(std::string(kWho) + ": CHOLMOD analyze failed");
+  if (m.options.try_natural && m.used != Ordering::Natural) {
+    const double fl = m.common.fl, lnz = m.common.lnz;
+    m.common.method[0].ordering = CHOLMOD_NATURAL;
+    cholmod_factor* natural = cholmod_analyze(&s, &m.common);
+    if (!natural)
+      m.check_status("analyze"), throw numerical_error(std::string(kWho) + ": CHOLMOD analyze failed");
+    if (m.common.fl < fl) {
+      cholmod_free_factor(&m.L, &m.common);
+      m.L = natural;
+      m.used = Ordering::Natural;
+    } else {
+      cholmod_free_factor(&natural, &m.common);
+      m.common.fl = fl, m.common.lnz = lnz;  // factor_flops() and factor_nonzeros() of the kept one
+    }
+  }
 }
 
-void CholeskySolver::factorize(const Eigen::SparseMatrix<double>& A) {
+template <class Scalar>
+void BasicCholeskySolver<Scalar>::factorize(const SparseMatrix& A) {
   Impl& m = *impl_;
-  if (!m.L && m.n != 0) throw Error("CholeskySolver: factorize() before analyze()");
-  detail::check_square_finite(A, "CholeskySolver");
+  if (!m.L && m.n != 0) throw Error(std::string(kWho) + ": factorize() before analyze()");
+  detail::check_square_finite(A, kWho);
   if (A.rows() != m.n || detail::pattern_hash(A) != m.pattern) {
     std::ostringstream s;
-    s << "CholeskySolver: factorize() got a " << A.rows() << "x" << A.cols() << " matrix with "
-      << A.nonZeros() << " nonzeros whose pattern differs from the analyzed one (" << m.n
-      << " rows): call compute()";
+    s << kWho << ": factorize() got a " << A.rows() << "x" << A.cols() << " matrix with " << A.nonZeros()
+      << " nonzeros whose pattern differs from the analyzed one (" << m.n << " rows): call compute()";
     throw Error(s.str());
   }
   m.factorized = false;
@@ -145,94 +234,97 @@ void CholeskySolver::factorize(const Eigen::SparseMatrix<double>& A) {
     why << "leading minor " << m.L->minor;
     m.throw_not_pd(A, static_cast<long>(m.L->minor), why.str());
   }
-  if (m.n > 0) {
-    if (!m.L->is_ll) {  // simplicial LDLᵀ succeeds on indefinite matrices: require D > 0
-      const int* p = static_cast<const int*>(m.L->p);
-      const double* x = static_cast<const double*>(m.L->x);
-      for (Eigen::Index j = 0; j < m.n; ++j)
-        if (!(x[p[j]] > 0)) {
-          std::ostringstream why;
-          why << "pivot D(" << j << "," << j << ") = " << x[p[j]];
-          m.throw_not_pd(A, static_cast<long>(j), why.str());
-        }
-    }
-    // A positive semi-definite singular matrix (e.g. a Laplacian with a floating component) ends with
-    // a roundoff pivot of either sign; a positive one passes the factorization. Every pivot of an SPD
-    // matrix is ≥ λ_min(A), so a pivot below kSingular·max_j A(j,j) means cond(A) ≳ 1/kSingular:
-    // numerically singular.
-    double amax = 0;
-    for (Eigen::Index j = 0; j < m.n; ++j)
-      for (int k = A.outerIndexPtr()[j]; k < A.outerIndexPtr()[j + 1]; ++k)
-        if (A.innerIndexPtr()[k] == j) amax = std::max(amax, A.valuePtr()[k]);
-    long kmin = 0;
-    double dmin = std::numeric_limits<double>::infinity();  // smallest pivot d_k (= L(k,k)² for LLᵀ)
-    if (!m.L->is_super) {
-      const int* p = static_cast<const int*>(m.L->p);
-      const double* x = static_cast<const double*>(m.L->x);
-      for (Eigen::Index j = 0; j < m.n; ++j) {
-        const double d = m.L->is_ll ? x[p[j]] * x[p[j]] : x[p[j]];
-        if (d < dmin) dmin = d, kmin = static_cast<long>(j);
-      }
-    } else {
-      const int* super = static_cast<const int*>(m.L->super);
-      const int* pi = static_cast<const int*>(m.L->pi);
-      const int* px = static_cast<const int*>(m.L->px);
-      const double* x = static_cast<const double*>(m.L->x);
-      for (size_t sn = 0; sn < m.L->nsuper; ++sn) {
-        const int k1 = super[sn], k2 = super[sn + 1], nrows = pi[sn + 1] - pi[sn];
-        for (int k = k1; k < k2; ++k) {
-          const double l = x[px[sn] + (k - k1) + static_cast<long>(k - k1) * nrows];
-          if (l * l < dmin) dmin = l * l, kmin = k;
-        }
-      }
-    }
-    if (!(dmin > kSingular * amax)) {
-      std::ostringstream why;
-      why << "numerically singular, smallest pivot " << dmin << " vs largest diagonal entry " << amax;
-      m.throw_not_pd(A, kmin, why.str());
-    }
-  }
+  m.check_pivots(A);
   m.factorized = true;
 }
 
-void CholeskySolver::compute(const Eigen::SparseMatrix<double>& A) {
+template <class Scalar>
+void BasicCholeskySolver<Scalar>::compute(const SparseMatrix& A) {
   analyze(A);
   factorize(A);
 }
 
-Eigen::MatrixXd CholeskySolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& B) const {
+template <class Scalar>
+typename BasicCholeskySolver<Scalar>::Matrix BasicCholeskySolver<Scalar>::solve(
+    const Eigen::Ref<const Matrix>& B, System system) const {
   Impl& m = *impl_;
-  if (!m.factorized) throw Error("CholeskySolver: solve() before a successful factorize()");
+  if (!m.factorized) throw Error(std::string(kWho) + ": solve() before a successful factorize()");
   if (B.rows() != m.n) {
     std::ostringstream s;
-    s << "CholeskySolver: right-hand side has " << B.rows() << " rows, the matrix " << m.n;
+    s << kWho << ": right-hand side has " << B.rows() << " rows, the matrix " << m.n;
     throw Error(s.str());
   }
-  Eigen::MatrixXd X(B.rows(), B.cols());
+  Matrix X(B.rows(), B.cols());
   if (B.size() == 0) return X;
+  // L of A = Pᵀ L Lᴴ P from a simplicial LDLᴴ factor L₁ D L₁ᴴ is L₁ D^½: L⁻¹B = D^−½ (L₁⁻¹ B) and
+  // L⁻ᴴB = L₁⁻ᴴ (D^−½ B).
+  const bool ldl = !m.L->is_ll && (system == System::L || system == System::Lt);
+  Matrix scaled;
+  const Scalar* bdata = B.data();
+  Eigen::Index bstride = B.outerStride();
+  if (ldl && system == System::Lt) {
+    scaled = B;
+    for (Eigen::Index j = 0; j < m.n; ++j) scaled.row(j) /= std::sqrt(m.simplicial_diagonal(j));
+    bdata = scaled.data();
+    bstride = scaled.rows();
+  }
   cholmod_dense b{};
   b.nrow = static_cast<size_t>(B.rows());
   b.ncol = static_cast<size_t>(B.cols());
-  b.nzmax = b.nrow * b.ncol;
-  b.d = static_cast<size_t>(B.outerStride());
-  b.x = const_cast<double*>(B.data());
-  b.xtype = CHOLMOD_REAL;
+  b.d = static_cast<size_t>(bstride);
+  b.nzmax = b.d * b.ncol;
+  b.x = const_cast<Scalar*>(bdata);
+  b.xtype = Impl::kXtype;
   b.dtype = CHOLMOD_DOUBLE;
-  cholmod_dense* x = cholmod_solve(CHOLMOD_A, m.L, &b, &m.common);
-  if (!x) m.check_status("solve"), throw numerical_error("CholeskySolver: CHOLMOD solve failed");
-  const double* xs = static_cast<const double*>(x->x);
+  const int sys = system == System::A    ? CHOLMOD_A
+                  : system == System::L  ? CHOLMOD_L
+                  : system == System::Lt ? CHOLMOD_Lt
+                  : system == System::P  ? CHOLMOD_P
+                                         : CHOLMOD_Pt;
+  cholmod_dense* x = cholmod_solve(sys, m.L, &b, &m.common);
+  if (!x) m.check_status("solve"), throw numerical_error(std::string(kWho) + ": CHOLMOD solve failed");
+  const Scalar* xs = static_cast<const Scalar*>(x->x);
   for (Eigen::Index j = 0; j < X.cols(); ++j)
-    X.col(j) = Eigen::Map<const Eigen::VectorXd>(xs + j * static_cast<Eigen::Index>(x->d), X.rows());
+    X.col(j) = Eigen::Map<const Eigen::Matrix<Scalar, Eigen::Dynamic, 1>>(
+        xs + j * static_cast<Eigen::Index>(x->d), X.rows());
   cholmod_free_dense(&x, &m.common);
-  if (!X.allFinite()) throw numerical_error("CholeskySolver: the solution is not finite");
+  if (ldl && system == System::L)
+    for (Eigen::Index j = 0; j < m.n; ++j) X.row(j) /= std::sqrt(m.simplicial_diagonal(j));
+  if (!X.allFinite()) throw numerical_error(std::string(kWho) + ": the solution is not finite");
   return X;
 }
 
-Eigen::Index CholeskySolver::rows() const { return impl_->n < 0 ? 0 : impl_->n; }
-bool CholeskySolver::analyzed() const { return impl_->L != nullptr || impl_->n == 0; }
-bool CholeskySolver::factorized() const { return impl_->factorized; }
-double CholeskySolver::factor_nonzeros() const { return impl_->L ? impl_->common.lnz : 0.0; }
-double CholeskySolver::factor_flops() const { return impl_->L ? impl_->common.fl : 0.0; }
-const CholeskySolver::Options& CholeskySolver::options() const { return impl_->options; }
+template <class Scalar>
+Eigen::Index BasicCholeskySolver<Scalar>::rows() const {
+  return impl_->n < 0 ? 0 : impl_->n;
+}
+template <class Scalar>
+bool BasicCholeskySolver<Scalar>::analyzed() const {
+  return impl_->L != nullptr || impl_->n == 0;
+}
+template <class Scalar>
+bool BasicCholeskySolver<Scalar>::factorized() const {
+  return impl_->factorized;
+}
+template <class Scalar>
+double BasicCholeskySolver<Scalar>::factor_nonzeros() const {
+  return impl_->L ? impl_->common.lnz : 0.0;
+}
+template <class Scalar>
+double BasicCholeskySolver<Scalar>::factor_flops() const {
+  return impl_->L ? impl_->common.fl : 0.0;
+}
+template <class Scalar>
+const typename BasicCholeskySolver<Scalar>::Options& BasicCholeskySolver<Scalar>::options() const {
+  return impl_->options;
+}
+
+template <class Scalar>
+Ordering BasicCholeskySolver<Scalar>::ordering_used() const {
+  return impl_->used;
+}
+
+template class BasicCholeskySolver<double>;
+template class BasicCholeskySolver<std::complex<double>>;
 
 }  // namespace spinmotor

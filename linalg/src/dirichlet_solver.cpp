@@ -1,5 +1,6 @@
 #include "spinmotor/linalg/dirichlet_solver.hpp"
 
+#include <algorithm>
 #include <optional>
 #include <sstream>
 #include <vector>
@@ -27,8 +28,38 @@ DirichletSolver::~DirichletSolver() = default;
 DirichletSolver::DirichletSolver(DirichletSolver&&) noexcept = default;
 DirichletSolver& DirichletSolver::operator=(DirichletSolver&&) noexcept = default;
 
+namespace {
+// Sorts the row indices (with their values) of every column: extraction in a caller-given order
+// leaves them unsorted, and CHOLMOD and SuperLU read sorted columns. Columns are short (a vertex's
+// one-ring): insertion sort.
+void sort_columns(Eigen::SparseMatrix<double>& S) {
+  int* inner = S.innerIndexPtr();
+  double* value = S.valuePtr();
+  for (Eigen::Index j = 0; j < S.outerSize(); ++j) {
+    const int b = S.outerIndexPtr()[j], e = S.outerIndexPtr()[j + 1];
+    for (int k = b + 1; k < e; ++k) {
+      const int r = inner[k];
+      const double v = value[k];
+      int t = k;
+      for (; t > b && inner[t - 1] > r; --t) inner[t] = inner[t - 1], value[t] = value[t - 1];
+      inner[t] = r, value[t] = v;
+    }
+  }
+}
+}  // namespace
+
 void DirichletSolver::bind(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXi& constrained,
                            Kind kind) {
+  bind_impl(A, constrained, nullptr, kind);
+}
+
+void DirichletSolver::bind(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXi& constrained,
+                           const Eigen::VectorXi& free_order, Kind kind) {
+  bind_impl(A, constrained, &free_order, kind);
+}
+
+void DirichletSolver::bind_impl(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXi& constrained,
+                                const Eigen::VectorXi* free_order, Kind kind) {
   Impl& m = *impl_;
   m.n = -1;
   m.cholesky.reset();
@@ -56,14 +87,41 @@ void DirichletSolver::bind(const Eigen::SparseMatrix<double>& A, const Eigen::Ve
   const detail::GraphComponents g = detail::matrix_components(A);
   std::vector<char> anchored(g.count(), 0);
   for (Eigen::Index r = 0; r < constrained.size(); ++r) anchored[g.label[constrained[r]]] = 1;
+  std::vector<FloatingComponentError::Component> floating;
   for (int c = 0; c < g.count(); ++c)
-    if (!anchored[c])
-      throw Error("DirichletSolver: " + detail::describe_component(g, c, "vertex", "vertices") + " of " +
-                  std::to_string(g.count()) + " has no constrained vertex: its values are undetermined");
+    if (!anchored[c]) floating.push_back({c, g.size[c], g.first[c]});
+  if (!floating.empty()) {
+    // The message first: the vector is moved into the exception.
+    const std::string what =
+        "DirichletSolver: " + detail::describe_component(g, floating[0].id, "vertex", "vertices") + " of " +
+        std::to_string(g.count()) + " has no constrained vertex: its values are undetermined";
+    throw FloatingComponentError(what, std::move(floating), g.count());
+  }
   int nf = 0;
   m.free.resize(n - constrained.size());
-  for (int i = 0; i < n; ++i)
-    if (slot[i] == 0) m.free[nf] = i, slot[i] = nf++;
+  bool sorted = true;
+  if (free_order) {
+    if (free_order->size() != m.free.size()) {
+      std::ostringstream s;
+      s << "DirichletSolver: the free order has " << free_order->size()
+        << " indices, expected n - c = " << m.free.size();
+      throw Error(s.str());
+    }
+    for (Eigen::Index r = 0; r < free_order->size(); ++r) {
+      const int i = (*free_order)[r];
+      if (i < 0 || i >= n || slot[i] != 0) {
+        std::ostringstream s;
+        s << "DirichletSolver: free order index " << r << " is " << i
+          << (i < 0 || i >= n ? ", out of range" : ", constrained or listed twice");
+        throw Error(s.str());
+      }
+      m.free[nf] = i, slot[i] = nf++;
+      sorted = sorted && (r == 0 || i > (*free_order)[r - 1]);
+    }
+  } else {
+    for (int i = 0; i < n; ++i)
+      if (slot[i] == 0) m.free[nf] = i, slot[i] = nf++;
+  }
   // A_FF and A_FC in compressed column storage, one pass over A (rows stay sorted: the maps are monotone
   // on the free unknowns; A_FC columns follow the order of `constrained`).
   const int nc = static_cast<int>(constrained.size());
@@ -95,6 +153,10 @@ void DirichletSolver::bind(const Eigen::SparseMatrix<double>& A, const Eigen::Ve
       T.valuePtr()[pos] = it.value();
       ++pos;
     }
+  }
+  if (!sorted) {  // rows follow the caller's order: sort each column
+    sort_columns(A_FF);
+    sort_columns(m.A_FC);
   }
 
   m.kind = kind;
@@ -152,6 +214,27 @@ Eigen::MatrixXd DirichletSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& 
 
 Eigen::MatrixXd DirichletSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& values) const {
   return solve(Eigen::MatrixXd(), values);
+}
+
+Eigen::MatrixXd DirichletSolver::solve_free(const Eigen::Ref<const Eigen::MatrixXd>& rhs_F) const {
+  const Impl& m = *impl_;
+  if (m.n < 0) throw Error("DirichletSolver: solve_free() before a successful bind()");
+  if (rhs_F.rows() != m.free.size()) {
+    std::ostringstream s;
+    s << "DirichletSolver: free right-hand side has " << rhs_F.rows()
+      << " rows, expected one per free unknown (" << m.free.size() << ")";
+    throw Error(s.str());
+  }
+  if (m.free.size() == 0) return Eigen::MatrixXd(0, rhs_F.cols());
+  return m.kind == Kind::SPD ? m.cholesky->solve(rhs_F) : m.lu->solve(rhs_F);
+}
+
+const Eigen::SparseMatrix<double>& DirichletSolver::free_constrained_block() const { return impl_->A_FC; }
+
+const CholeskySolver& DirichletSolver::cholesky() const {
+  if (impl_->n < 0 || !impl_->cholesky)
+    throw Error("DirichletSolver: cholesky() needs a bind() with Kind::SPD");
+  return *impl_->cholesky;
 }
 
 Eigen::Index DirichletSolver::rows() const { return impl_->n < 0 ? 0 : impl_->n; }

@@ -40,8 +40,9 @@ struct LUSolver::Impl {
           return MMD_ATA;
         case Ordering::MMD_AtPlusA:
           return MMD_AT_PLUS_A;
+        default:  // rejected by the constructor
+          return COLAMD;
       }
-      return COLAMD;
     }();
     slu.DiagPivotThresh = o.pivot_threshold;
     slu.PrintStat = NO;
@@ -76,9 +77,9 @@ struct LUSolver::Impl {
       case Ordering::MMD_AtPlusA:
         return 2;
       case Ordering::COLAMD:
+      default:
         return 3;
     }
-    return 3;
   }
 
   [[noreturn]] void throw_singular(const Eigen::SparseMatrix<double>& A, int col,
@@ -96,6 +97,7 @@ struct LUSolver::Impl {
 
 LUSolver::LUSolver() : LUSolver(Options{}) {}
 LUSolver::LUSolver(const Options& options) : impl_(std::make_unique<Impl>(options)) {
+  require_ordering(options.ordering, kOrderings, "LUSolver");
   if (!(options.pivot_threshold >= 0.0 && options.pivot_threshold <= 1.0)) {
     std::ostringstream s;
     s << "LUSolver: pivot_threshold must be in [0, 1], got " << options.pivot_threshold;

@@ -1,5 +1,8 @@
 #include "solver_detail.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <complex>
 #include <numeric>
 #include <sstream>
 
@@ -7,7 +10,8 @@
 
 namespace spinmotor::detail {
 
-void check_square_finite(const Eigen::SparseMatrix<double>& A, const char* who) {
+template <class Scalar>
+void check_square_finite(const Eigen::SparseMatrix<Scalar>& A, const char* who) {
   if (A.rows() != A.cols()) {
     std::ostringstream s;
     s << who << ": matrix must be square, got " << A.rows() << "x" << A.cols();
@@ -15,9 +19,9 @@ void check_square_finite(const Eigen::SparseMatrix<double>& A, const char* who) 
   }
   if (!A.isCompressed())
     throw Error(std::string(who) + ": matrix must be compressed (call makeCompressed())");
-  const double* v = A.valuePtr();
+  const Scalar* v = A.valuePtr();
   for (Eigen::Index k = 0; k < A.nonZeros(); ++k)
-    if (!std::isfinite(v[k])) {
+    if (!std::isfinite(std::abs(v[k]))) {
       const auto* outer = A.outerIndexPtr();
       const Eigen::Index col =
           std::upper_bound(outer, outer + A.outerSize() + 1, static_cast<int>(k)) - outer - 1;
@@ -38,12 +42,13 @@ int find_root(std::vector<int>& parent, int i) {
 }
 }  // namespace
 
-GraphComponents matrix_components(const Eigen::SparseMatrix<double>& A) {
+template <class Scalar>
+GraphComponents matrix_components(const Eigen::SparseMatrix<Scalar>& A) {
   const int n = static_cast<int>(A.rows());
   std::vector<int> parent(n);
   std::iota(parent.begin(), parent.end(), 0);
   for (int j = 0; j < A.outerSize(); ++j)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) {
+    for (typename Eigen::SparseMatrix<Scalar>::InnerIterator it(A, j); it; ++it) {
       int a = find_root(parent, static_cast<int>(it.row())), b = find_root(parent, j);
       if (a != b) parent[std::max(a, b)] = std::min(a, b);  // root = smallest index
     }
@@ -118,12 +123,20 @@ int structurally_singular_column(const Eigen::SparseMatrix<double>& A) {
   return -1;
 }
 
-std::size_t pattern_hash(const Eigen::SparseMatrix<double>& A) {
+template <class Scalar>
+std::size_t pattern_hash(const Eigen::SparseMatrix<Scalar>& A) {
   std::size_t h = std::hash<Eigen::Index>()(A.rows()) ^ (std::hash<Eigen::Index>()(A.nonZeros()) << 1);
   const auto mix = [&h](std::size_t v) { h ^= v + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2); };
   for (Eigen::Index j = 0; j <= A.outerSize(); ++j) mix(static_cast<std::size_t>(A.outerIndexPtr()[j]));
   for (Eigen::Index k = 0; k < A.nonZeros(); ++k) mix(static_cast<std::size_t>(A.innerIndexPtr()[k]));
   return h;
 }
+
+template void check_square_finite(const Eigen::SparseMatrix<double>&, const char*);
+template void check_square_finite(const Eigen::SparseMatrix<std::complex<double>>&, const char*);
+template GraphComponents matrix_components(const Eigen::SparseMatrix<double>&);
+template GraphComponents matrix_components(const Eigen::SparseMatrix<std::complex<double>>&);
+template std::size_t pattern_hash(const Eigen::SparseMatrix<double>&);
+template std::size_t pattern_hash(const Eigen::SparseMatrix<std::complex<double>>&);
 
 }  // namespace spinmotor::detail

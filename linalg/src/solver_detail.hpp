@@ -1,13 +1,16 @@
 #pragma once
-// Internal to spinmotor_mesh: input checks and matrix-graph components shared by the solvers.
+// Internal to spinmotor_linalg: input checks and matrix-graph components shared by the solvers.
 #include <Eigen/SparseCore>
+#include <complex>
 #include <string>
 #include <vector>
 
 namespace spinmotor::detail {
 
 /// Throws Error(BadInput) prefixed with `who` unless A is square, compressed and finite.
-void check_square_finite(const Eigen::SparseMatrix<double>& A, const char* who);
+/// Scalar: double or std::complex<double> (as for matrix_components and pattern_hash).
+template <class Scalar>
+void check_square_finite(const Eigen::SparseMatrix<Scalar>& A, const char* who);
 
 /// Connected components of the graph with an edge i–j for every stored entry A(i,j), i ≠ j (the
 /// pattern is symmetrised). Labels 0..count−1 in order of the smallest index in each component.
@@ -17,7 +20,8 @@ struct GraphComponents {
   std::vector<int> first;  ///< smallest index per component
   int count() const { return static_cast<int>(size.size()); }
 };
-GraphComponents matrix_components(const Eigen::SparseMatrix<double>& A);
+template <class Scalar>
+GraphComponents matrix_components(const Eigen::SparseMatrix<Scalar>& A);
 
 /// "connected component c (s <plural>, e.g. <noun> i)" (plural used when s ≠ 1).
 std::string describe_component(const GraphComponents& g, int c, const char* noun, const char* plural);
@@ -29,6 +33,7 @@ int structurally_singular_column(const Eigen::SparseMatrix<double>& A);
 
 /// Cheap pattern fingerprint (size, nnz, and a hash of the index arrays) to detect a factorize()
 /// call with a pattern different from the analyzed one.
-std::size_t pattern_hash(const Eigen::SparseMatrix<double>& A);
+template <class Scalar>
+std::size_t pattern_hash(const Eigen::SparseMatrix<Scalar>& A);
 
 }  // namespace spinmotor::detail

@@ -38,7 +38,7 @@ const std::vector<std::pair<const char*, Values>>& option_tables() {
       {"snap-alignment", option_values<SnapAlignment>},   // ConformalSnap(alignment=)
       {"problem", option_values<SpinEigenProblem>},       // ConformalSnap / SpinTransform problem=
       {"scale", option_values<SpinScale>},                // SpinTransform(scale=)
-      {"ordering", option_values<VertexOrdering>},        // SpinTransform(ordering=)
+      {"ordering", vertex_ordering_values},               // SpinTransform(ordering=)
       {"keep", option_values<CleanupKeep>},               // PinnedCleanup, ConformalSnap.snap(keep=)
       {"cleanup", option_values<scene::RigCleanupMode>},  // Rig.poser / Rig.bake cleanup=
       {"space", option_values<scene::RigSpace>},          // Rig.poser / Rig.bake space=

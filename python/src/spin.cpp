@@ -420,7 +420,7 @@ Errors: spinmotor.Error naming the first offender or the bad option value (listi
                o.krylov = krylov;
                o.problem = parse_option<SpinEigenProblem>(problem, "problem: ");
                o.scale = parse_option<SpinScale>(scale, "scale: ");
-               o.ordering = parse_option<VertexOrdering>(ordering, "ordering: ");
+               o.ordering = parse_option<Ordering>(ordering, "ordering: ");
                PySpin p;
                py::gil_scoped_release release;
                p.st = std::make_unique<SpinTransform>(mesh, o);

@@ -29,9 +29,9 @@ void check_rho(const Eigen::VectorXd& rho, Eigen::Index m) {
 
 // Fill-reducing ordering of the symmetric graph given by its full CSC pattern (diagonal included).
 Eigen::VectorXi graph_ordering(Eigen::Index n, std::vector<int>& colptr, std::vector<int>& rowind,
-                               VertexOrdering ordering) {
+                               Ordering ordering) {
   Eigen::VectorXi perm(n);
-  if (ordering == VertexOrdering::Natural || n == 0) {
+  if (ordering == Ordering::Natural || n == 0) {
     std::iota(perm.begin(), perm.end(), 0);
     return perm;
   }
@@ -50,8 +50,8 @@ Eigen::VectorXi graph_ordering(Eigen::Index n, std::vector<int>& colptr, std::ve
   A.dtype = CHOLMOD_DOUBLE;
   A.sorted = 1;
   A.packed = 1;
-  const int ok = ordering == VertexOrdering::AMD ? cholmod_amd(&A, nullptr, 0, perm.data(), &c)
-                                                 : cholmod_metis(&A, nullptr, 0, 1, perm.data(), &c);
+  const int ok = ordering == Ordering::AMD ? cholmod_amd(&A, nullptr, 0, perm.data(), &c)
+                                           : cholmod_metis(&A, nullptr, 0, 1, perm.data(), &c);
   cholmod_finish(&c);
   if (!ok) throw numerical_error("DiracAssembly: CHOLMOD could not order the vertex graph");
   return perm;
@@ -59,10 +59,11 @@ Eigen::VectorXi graph_ordering(Eigen::Index n, std::vector<int>& colptr, std::ve
 
 }  // namespace
 
-DiracAssembly::DiracAssembly(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, VertexOrdering ordering,
+DiracAssembly::DiracAssembly(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Ordering ordering,
                              const Eigen::VectorXi& reduced_vertices,
                              const std::vector<Eigen::Matrix<double, 4, 2>>& reductions)
     : n_(V.rows()), m_(F.rows()), F_(F) {
+  require_ordering(ordering, kVertexOrderings, "DiracAssembly");
   if (V.cols() != 3 || F.cols() != 3) throw Error("DiracAssembly: V and F must have 3 columns");
   if (m_ == 0) throw Error("DiracAssembly: the mesh has no faces");
   if (reduced_vertices.size() != static_cast<Eigen::Index>(reductions.size()))

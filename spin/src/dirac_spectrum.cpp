@@ -11,7 +11,7 @@
 #include <string>
 
 #include "spinmotor/core/error.hpp"
-#include "spinmotor/linalg/cholmod_llt.hpp"
+#include "spinmotor/linalg/cholesky_solver.hpp"
 #include "spinmotor/mesh/mass_matrix.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 #include "spinmotor/mesh/validate.hpp"
@@ -22,7 +22,7 @@ namespace spinmotor {
 
 namespace {
 
-using LLT = detail::CholmodLLT<double>;
+using LLT = CholeskySolver;
 
 // Spectra's B operation in Cholesky mode, B = A*A = Pᵀ L Lᵀ P: the two triangular solves, so that the
 // Lanczos iteration runs on the standard symmetric operator L⁻¹ P (B*A) Pᵀ L⁻ᵀ (no B-inner products).
@@ -59,7 +59,7 @@ PencilSolution solve_pencil(const Eigen::SparseMatrix<double>& K, const Eigen::S
                             int count, const DiracSpectrumOptions& options, LLT::Ordering ordering,
                             const char* who) {
   const Eigen::Index Nr = K.rows();
-  LLT chol(ordering);
+  LLT chol({.ordering = ordering, .supernodal = true});
   chol.analyze(K);
   chol.factorize(K);
 
@@ -186,7 +186,7 @@ DiracSpectrum dirac_spectrum(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     }
   const bool constants = (rho.array() == 0.0).all();
 
-  const DiracAssembly as(V, F, VertexOrdering::AMD);
+  const DiracAssembly as(V, F, Ordering::AMD);
   Eigen::SparseMatrix<double> K = as.pattern(), G = as.pattern();
   as.normal_matrix(rho, {}, K);
   as.mixed_matrix(rho, {}, G);

@@ -14,7 +14,6 @@
 #include "spinmotor/core/stopwatch.hpp"
 #include "spinmotor/ga/quaternion.hpp"
 #include "spinmotor/linalg/cholesky_solver.hpp"
-#include "spinmotor/linalg/cholmod_llt.hpp"
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
 #include "spinmotor/mesh/topology.hpp"
@@ -26,19 +25,6 @@ namespace spinmotor {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using ComplexLLT = detail::CholmodLLT<std::complex<double>>;
-
-CholeskySolver::Ordering to_cholmod(VertexOrdering o) {
-  switch (o) {
-    case VertexOrdering::Natural:
-      return CholeskySolver::Ordering::Natural;
-    case VertexOrdering::AMD:
-      return CholeskySolver::Ordering::AMD;
-    case VertexOrdering::METIS:
-      return CholeskySolver::Ordering::METIS;
-  }
-  return CholeskySolver::Ordering::AMD;
-}
 
 // y = K x for K stored as its lower triangle (Hermitian for complex K).
 template <class Scalar>
@@ -54,6 +40,13 @@ double mean_diagonal(const Eigen::SparseMatrix<Scalar>& K) {
   double sum = 0;
   for (Eigen::Index j = 0; j < K.cols(); ++j) sum += std::real(K.valuePtr()[K.outerIndexPtr()[j]]);
   return sum / static_cast<double>(K.cols());
+}
+// Whether every stored value is finite (an extreme ρ overflows the ρ² terms of the eigen matrix).
+template <class Scalar>
+bool values_finite(const Eigen::SparseMatrix<Scalar>& K) {
+  for (Eigen::Index k = 0; k < K.nonZeros(); ++k)
+    if (!std::isfinite(std::abs(K.valuePtr()[k]))) return false;
+  return true;
 }
 template <class Scalar>
 void shift_diagonal(Eigen::SparseMatrix<Scalar>& K, double sigma) {
@@ -286,7 +279,7 @@ struct SpinTransform::Impl {
   Eigen::SparseMatrix<double> K, G;
   Eigen::SparseMatrix<std::complex<double>> Kc, Gc;
   CholeskySolver chol;
-  ComplexLLT cchol;
+  ComplexCholeskySolver cchol;
   Eigen::VectorXd start;  // normalised all-ones start vector (unknowns)
   Eigen::VectorXcd cstart;
   // Poisson (§5.6), prepared on a second thread during bind (it does not depend on ρ) and awaited by
@@ -372,12 +365,13 @@ struct SpinTransform::Impl {
   explicit Impl(const SpinTransformOptions& o)
       : opt(o),
         chol({.ordering = CholeskySolver::Ordering::Natural, .supernodal = o.supernodal}),
-        cchol(ComplexLLT::Ordering::Natural, o.supernodal),
+        cchol({.ordering = CholeskySolver::Ordering::Natural, .supernodal = o.supernodal}),
         poisson({.ordering = CholeskySolver::Ordering::Natural, .supernodal = true}) {}
 };
 
 SpinTransform::SpinTransform(const Mesh& mesh, const SpinTransformOptions& options)
     : impl_(std::make_unique<Impl>(options)) {
+  require_ordering(options.ordering, kVertexOrderings, "SpinTransform");
   const auto t0 = Clock::now();
   Impl& s = *impl_;
   const SpinTransformOptions& o = s.opt;
@@ -447,17 +441,14 @@ SpinTransform::SpinTransform(const Mesh& mesh, const SpinTransformOptions& optio
   }
 
   // Eigen matrix: vertex ordering, pattern, symbolic analysis.
-  const VertexOrdering vord = o.order_full_matrix ? VertexOrdering::Natural : o.ordering;
+  const Ordering vord = o.order_full_matrix ? Ordering::Natural : o.ordering;
   s.as = std::make_unique<DiracAssembly>(s.V, s.F, vord, reduced, U);
   // Poisson: the cotangent Laplacian and its factor, on a second thread.
   s.poisson_ready = std::async(std::launch::async, [&s] { s.prepare_poisson(); });
   s.complex = o.complex_form && !s.as->has_reductions();
   if (o.order_full_matrix) {
-    s.chol = CholeskySolver({.ordering = to_cholmod(o.ordering), .supernodal = o.supernodal});
-    s.cchol = ComplexLLT(o.ordering == VertexOrdering::METIS ? ComplexLLT::Ordering::METIS
-                         : o.ordering == VertexOrdering::AMD ? ComplexLLT::Ordering::AMD
-                                                             : ComplexLLT::Ordering::Natural,
-                         o.supernodal);
+    s.chol = CholeskySolver({.ordering = o.ordering, .supernodal = o.supernodal});
+    s.cchol = ComplexCholeskySolver({.ordering = o.ordering, .supernodal = o.supernodal});
   }
   if (o.problem == SpinEigenProblem::Standard) {
     // V = M_V^{-1/2}, rescaled to mean 1 (§5.5).
@@ -538,6 +529,11 @@ SpinTransformResult SpinTransform::solve_impl(const Eigen::VectorXd& rho, bool r
     s.as->normal_matrix(rho, s.scale, s.K);
     if (gen) s.as->mixed_matrix(rho, s.scale, s.G);
   }
+  // A numerical failure on valid input, not a bad matrix handed to the solver (BadInput).
+  if (!(s.complex ? values_finite(s.Kc) && (!gen || values_finite(s.Gc))
+                  : values_finite(s.K) && (!gen || values_finite(s.G))))
+    throw numerical_error(
+        "spin_transform: the eigen matrix is not finite (rho too large: its squares overflow)");
   const double dmean = s.complex ? mean_diagonal(s.Kc) : mean_diagonal(s.K);
   double sigma = gen ? 0.0 : 1e-8 * dmean;
   res.timings.assembly = ms_since(t);
@@ -573,7 +569,7 @@ SpinTransformResult SpinTransform::solve_impl(const Eigen::VectorXd& rho, bool r
     res.lambda.col(0).setOnes();
   } else if (s.complex) {
     Eigen::VectorXcd x = s.cstart;
-    auto solve = [&](const Eigen::VectorXcd& b) { return s.cchol.solve(b); };
+    auto solve = [&](const Eigen::VectorXcd& b) -> Eigen::VectorXcd { return s.cchol.solve(b); };
     const IterationResult r = o.fixed_iterations || !o.krylov
                                   ? inverse_iteration(s.Kc, gen ? &s.Gc : nullptr, solve, sigma, o, x)
                                   : krylov_inverse_iteration(s.Kc, gen ? &s.Gc : nullptr, solve, sigma, o, x);

@@ -1,4 +1,4 @@
-// Sparse solvers (mesh/cholesky_solver.hpp, lu_solver.hpp, dirichlet_solver.hpp): exact discrete
+// Sparse solvers (linalg/cholesky_solver.hpp, lu_solver.hpp, dirichlet_solver.hpp): exact discrete
 // harmonic functions, agreement with Eigen's own factorizations, many right-hand sides, refactoring,
 // and the errors for singular, indefinite and under-constrained systems.
 #include <Eigen/SparseCholesky>
@@ -6,6 +6,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/linalg/cholesky_solver.hpp"
@@ -151,8 +153,14 @@ TEST_CASE("Dirichlet: a component without a constrained vertex is named", "[solv
                                          Catch::Contains("no constrained vertex"));
   try {
     d.bind(L, pins);
-  } catch (const Error& e) {
+    FAIL("a floating component was accepted");
+  } catch (const FloatingComponentError& e) {  // an Error, with every floating component
     CHECK(e.kind() == Error::Kind::BadInput);
+    CHECK(e.count() == 2);
+    REQUIRE(e.floating().size() == 1);
+    CHECK(e.floating()[0].id == 1);
+    CHECK(e.floating()[0].size == 15);
+    CHECK(e.floating()[0].first == 16);
   }
   CHECK_FALSE(d.bound());
   pins << 0, 20;  // one pin in each component: fine
@@ -309,4 +317,92 @@ TEST_CASE("solvers accept an empty system", "[solvers]") {
   CHECK_NOTHROW(lu.compute(A));
   CHECK(c.solve(MatrixXd(0, 2)).cols() == 2);
   CHECK(lu.solve(MatrixXd(0, 2)).cols() == 2);
+}
+
+TEST_CASE("Ordering: one name table, each solver accepts its subset and names the others", "[solvers]") {
+  CHECK(option_values<Ordering>() == std::vector<std::string>{"auto", "natural", "amd", "metis", "nesdis",
+                                                              "nested-dissection", "colamd", "mmd-ata",
+                                                              "mmd-at-plus-a"});
+  for (const std::string& name : option_values<Ordering>())
+    CHECK(option_name(parse_option<Ordering>(name)) == name);
+  CHECK_THROWS_WITH(parse_option<Ordering>("mmd_ata"), Catch::Contains("unknown ordering 'mmd_ata'"));
+  // CholeskySolver: auto, natural, amd, metis, nesdis; LUSolver: natural, colamd, mmd-ata, mmd-at-plus-a.
+  for (Ordering o : CholeskySolver::kOrderings) CHECK_NOTHROW(CholeskySolver({o, true}));
+  for (Ordering o : LUSolver::kOrderings) CHECK_NOTHROW(LUSolver({o, 1.0}));
+  try {
+    CholeskySolver({Ordering::COLAMD, true});
+    FAIL("CholeskySolver accepted colamd");
+  } catch (const Error& e) {
+    CHECK(e.kind() == Error::Kind::BadInput);
+    CHECK(std::string(e.what()) ==
+          "CholeskySolver: ordering 'colamd' is not supported here (one of: auto, natural, amd, metis, "
+          "nesdis)");
+  }
+  CHECK_THROWS_WITH(ComplexCholeskySolver({Ordering::NestedDissection, true}),
+                    Catch::Contains("ordering 'nested-dissection' is not supported"));
+  CHECK_THROWS_WITH(
+      LUSolver({Ordering::AMD, 1.0}),
+      Catch::Contains("LUSolver: ordering 'amd' is not supported here (one of: natural, colamd, "
+                      "mmd-ata, mmd-at-plus-a)"));
+  CHECK(ordering_values(LUSolver::kOrderings) ==
+        std::vector<std::string>{"natural", "colamd", "mmd-ata", "mmd-at-plus-a"});
+}
+
+TEST_CASE("Dirichlet: a given free order gives the same solution, solve_free and A_FC are its parts",
+          "[solvers]") {
+  const Mesh g = perturbed_grid(12, 9, 0.3);
+  const SpMat L = cotangent_laplacian(g.V, g.F);
+  const VectorXi b = boundary_vertices(g.F, g.V.rows());
+  const MatrixXd values = values_at(g.V, b);
+  DirichletSolver plain;
+  plain.bind(L, b);
+  const MatrixXd X = plain.solve(values);
+  // The free vertices in reverse order.
+  VectorXi order = plain.free().reverse();
+  for (bool try_natural : {false, true}) {
+    DirichletSolver::Options o;
+    o.cholesky.try_natural = try_natural;
+    DirichletSolver d(o);
+    d.bind(L, b, order);
+    CHECK(d.free() == order);
+    CHECK((d.solve(values) - X).cwiseAbs().maxCoeff() < 1e-12);
+    // solve_free on −A_FC X_C is the free part of solve().
+    const MatrixXd XF = d.solve_free(-(d.free_constrained_block() * values));
+    for (Eigen::Index r = 0; r < order.size(); ++r) CHECK((XF.row(r) - X.row(order[r])).norm() < 1e-12);
+    CHECK(d.free_constrained_block().rows() == order.size());
+    CHECK(d.free_constrained_block().cols() == b.size());
+    CHECK(d.cholesky().factorized());
+  }
+  // try_natural keeps the ordering with fewer flops: AMD beats the reversed natural order here.
+  DirichletSolver::Options o;
+  o.cholesky.ordering = Ordering::AMD;
+  o.cholesky.try_natural = true;
+  DirichletSolver d(o);
+  d.bind(L, b, order);
+  CholeskySolver amd({Ordering::AMD, true}), nat({Ordering::Natural, true});
+  const SpMat A_FF = [&] {
+    SpMat P(order.size(), L.rows());
+    std::vector<Eigen::Triplet<double>> t;
+    for (Eigen::Index r = 0; r < order.size(); ++r) t.emplace_back(static_cast<int>(r), order[r], 1.0);
+    P.setFromTriplets(t.begin(), t.end());
+    SpMat A = P * L * SpMat(P.transpose());
+    A.makeCompressed();
+    return A;
+  }();
+  amd.analyze(A_FF);
+  nat.analyze(A_FF);
+  CHECK(d.cholesky().ordering_used() ==
+        (nat.factor_flops() < amd.factor_flops() ? Ordering::Natural : Ordering::AMD));
+  CHECK(d.cholesky().factor_flops() == std::min(nat.factor_flops(), amd.factor_flops()));
+  // A bad free order is named.
+  VectorXi bad = order;
+  bad[0] = b[0];
+  CHECK_THROWS_WITH(d.bind(L, b, bad),
+                    Catch::Contains("free order index 0") && Catch::Contains("constrained"));
+  CHECK_THROWS_WITH(d.bind(L, b, VectorXi(order.head(3))), Catch::Contains("free order has 3 indices"));
+  CHECK_THROWS_WITH(DirichletSolver().solve_free(MatrixXd(0, 3)),
+                    Catch::Contains("before a successful bind"));
+  DirichletSolver lu;
+  lu.bind(L, b, DirichletSolver::Kind::LU);
+  CHECK_THROWS_WITH(lu.cholesky(), Catch::Contains("Kind::SPD"));
 }

@@ -83,8 +83,15 @@ TEST_CASE("the direct assembly equals the explicit products A*A and B*A (§5.4, 
   // Mass matrices: B*B 1 = M_V 1 (B*B has row sums ⅓ Σ A_f).
   const Eigen::VectorXd Mv = vertex_areas(m.V, m.F, MassType::Barycentric);
 
+  SECTION("orderings of the vertex graph: natural, amd, metis; others are rejected by name") {
+    CHECK(vertex_ordering_values() == std::vector<std::string>{"natural", "amd", "metis"});
+    CHECK_THROWS_WITH(
+        DiracAssembly(m.V, m.F, Ordering::COLAMD),
+        Catch::Contains("DiracAssembly: ordering 'colamd' is not supported here (one of: natural, "
+                        "amd, metis)"));
+  }
   SECTION("natural order, no scaling") {
-    const DiracAssembly as(m.V, m.F, VertexOrdering::Natural);
+    const DiracAssembly as(m.V, m.F, Ordering::Natural);
     CHECK((as.vertex_areas() - Mv).cwiseAbs().maxCoeff() < 1e-14);
     Eigen::SparseMatrix<double> K = as.pattern(), G = as.pattern();
     as.normal_matrix(rho, {}, K);
@@ -93,7 +100,7 @@ TEST_CASE("the direct assembly equals the explicit products A*A and B*A (§5.4, 
     CHECK((dense_lower_sym(G) - BtA).cwiseAbs().maxCoeff() < 1e-12 * BtA.cwiseAbs().maxCoeff());
   }
   SECTION("AMD order with a vertex scaling") {
-    const DiracAssembly as(m.V, m.F, VertexOrdering::AMD);
+    const DiracAssembly as(m.V, m.F, Ordering::AMD);
     Eigen::VectorXd s(m.V.rows());
     for (Eigen::Index i = 0; i < s.size(); ++i) s[i] = 0.5 + 0.01 * i;
     Eigen::SparseMatrix<double> K = as.pattern();

@@ -58,7 +58,8 @@
 
 #include "spinmotor/deform/deformer.hpp"
 #include "spinmotor/deform/motor_blend_field.hpp"
-#include "spinmotor/linalg/cholesky_solver.hpp"
+#include "spinmotor/linalg/dirichlet_solver.hpp"
+#include "spinmotor/linalg/ordering.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 
 namespace spinmotor {
@@ -114,11 +115,13 @@ class ArapDeformer {
     enum class Factorization { Auto, Simplicial, Supernodal };
     Factorization factorization = Factorization::Auto;
     static constexpr Eigen::Index kSupernodalFrom = 300'000;
-    /// Fill-reducing ordering of L_FF. Auto: both AMD and a geometric nested dissection (recursive
-    /// median splits of the free vertices along their longest axis, the shorter boundary as
-    /// separator) are analysed and the one with fewer factorization flops is used (AMD wins on scanned
-    /// meshes, nested dissection on long tubes: docs/performance.md, "ARAP").
-    enum class Ordering { Auto, AMD, NestedDissection };
+    /// Fill-reducing ordering of L_FF (ordering.hpp): auto, amd or nested-dissection (others: Error).
+    /// Auto: both AMD and a geometric nested dissection (recursive median splits of the free vertices
+    /// along their longest axis, the shorter boundary as separator) are analysed and the one with
+    /// fewer factorization flops is used (AMD wins on scanned meshes, nested dissection on long tubes:
+    /// docs/performance.md, "ARAP").
+    using Ordering = spinmotor::Ordering;
+    static constexpr Ordering kOrderings[] = {Ordering::Auto, Ordering::AMD, Ordering::NestedDissection};
     Ordering ordering = Ordering::Auto;
   };
 
@@ -162,7 +165,7 @@ class ArapDeformer {
   /// The global matrix (the cotangent Laplacian with the energy's weights), n×n.
   const Eigen::SparseMatrix<double>& laplacian() const { return L_; }
   /// The free vertex of each row of the factorized block L_FF (for messages of the factorization).
-  const Eigen::VectorXi& free_order() const { return free_order_; }
+  const Eigen::VectorXi& free_order() const { return dirichlet_.free(); }
 
  private:
   // bind phases (arap.cpp)
@@ -175,7 +178,6 @@ class ArapDeformer {
   void bind_handles(std::span<const Handle> handles);
   void factorize(const std::vector<int>& constrained);
   void bind_harmonic();
-  Eigen::MatrixXd solve_dirichlet(const Eigen::MatrixXd& values) const;
   double local_step();
   void global_step();
   double cell_energy_direct(Eigen::Index i, const Eigen::Matrix3d& R, const RowMatrix3& X) const;
@@ -202,15 +204,14 @@ class ArapDeformer {
   std::vector<std::string> handle_names_;
   std::vector<Control> controls_;
   Eigen::VectorXi constrained_, constrained_handle_;  // handle of each constrained vertex (−1: unreferenced)
-  std::vector<int> free_pos_;         // row of each free vertex in L_FF, −1 − index if constrained
-  Eigen::VectorXi free_order_;        // the free vertex of each row of L_FF
-  Eigen::SparseMatrix<double> A_FC_;  // L_FC (free rows in free_order_, constrained columns)
-  CholeskySolver chol_;               // factor of L_FF
+  // L_FF (rows in a geometric nested-dissection order of the free vertices, free_order()), its
+  // factorization and L_FC (free_constrained_block(), columns in constrained_ order).
+  DirichletSolver dirichlet_;
   MotorBlendField harmonic_;
   bool has_harmonic_ = false;
 
   // Per-pose state and scratch, reused across poses (after the first pose the only allocations are
-  // those of CholeskySolver::solve, which returns a new matrix, and CHOLMOD's own workspace).
+  // those of DirichletSolver::solve_free, which returns a new matrix, and CHOLMOD's own workspace).
   RowMatrix3 X_;
   std::vector<ga::Rot> rot_;
   std::vector<ga::Mot> motors_;

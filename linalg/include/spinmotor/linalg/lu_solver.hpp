@@ -6,12 +6,13 @@
 // pattern; factorize() computes P_r A P_c = L U for a matrix with that pattern (call it again when
 // only the values change); solve() takes all right-hand sides at once (n×k).
 //
-// Column ordering: COLAMD by default, as docs/design.md asks (MMD was measured ~40× slower on the 4n×4n
-// quaternionic systems of the spin module). On matrices with a SYMMETRIC PATTERN, such as the
-// mean-value Laplacian (+ mass), MMD_AtPlusA is better: bench_laplacian (lu_ordering/*/10k) measured
-// nnz(L+U) 0.72M with MMD(Aᵀ+A) vs 1.43M with COLAMD, 1.41M with MMD(AᵀA), 2.84M natural, and about
-// half the factorization time; choose it there. The ordering is computed once per analyze().
-// Row pivoting: threshold partial pivoting with `pivot_threshold` (1 = classical partial pivoting;
+// Column ordering (ordering.hpp): colamd (default), natural, mmd-ata or mmd-at-plus-a; the constructor
+// throws Error (BadInput) for the orderings of other solvers. COLAMD by default, as docs/design.md asks (MMD
+// was measured ~40× slower on the 4n×4n quaternionic systems of the spin module). On matrices with a
+// SYMMETRIC PATTERN, such as the mean-value Laplacian (+ mass), MMD_AtPlusA is better: bench_laplacian
+// (lu_ordering/*/10k) measured nnz(L+U) 0.72M with MMD(Aᵀ+A) vs 1.43M with COLAMD, 1.41M with MMD(AᵀA), 2.84M
+// natural, and about half the factorization time; choose it there. The ordering is computed once per
+// analyze(). Row pivoting: threshold partial pivoting with `pivot_threshold` (1 = classical partial pivoting;
 // smaller values prefer the diagonal, which keeps the column ordering's sparsity on diagonally
 // dominant matrices such as Laplacians).
 //
@@ -28,11 +29,16 @@
 #include <Eigen/SparseCore>
 #include <memory>
 
+#include "spinmotor/linalg/ordering.hpp"
+
 namespace spinmotor {
 
 class LUSolver {
  public:
-  enum class Ordering { Natural, COLAMD, MMD_AtA, MMD_AtPlusA };
+  using Ordering = spinmotor::Ordering;
+  /// The orderings this solver implements.
+  static constexpr Ordering kOrderings[] = {Ordering::Natural, Ordering::COLAMD, Ordering::MMD_AtA,
+                                            Ordering::MMD_AtPlusA};
 
   struct Options {
     Ordering ordering = Ordering::COLAMD;

@@ -90,7 +90,7 @@ struct ConformalSnapOptions {
   int rho_smoothing = 0;
   double tolerance = 1e-10;  ///< eigen-residual of the inverse iteration (spin_transform.hpp)
   int iterations = 50;       ///< maximum inverse iterations
-  VertexOrdering ordering = VertexOrdering::METIS;
+  Ordering ordering = Ordering::METIS;
 };
 
 /// Wall-clock times in milliseconds of one snap.

@@ -31,28 +31,29 @@
 // 4×4 blocks a general ordering has to rediscover (bench_spin measures both).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <array>
 #include <complex>
+#include <string>
 #include <vector>
 
-#include "spinmotor/core/option_names.hpp"
+#include "spinmotor/linalg/ordering.hpp"
 
 namespace spinmotor {
 
-/// Fill-reducing ordering of the vertex graph (CHOLMOD's AMD or METIS nested dissection), or none.
-enum class VertexOrdering { Natural, AMD, METIS };
-inline constexpr OptionNames<VertexOrdering, 3> kVertexOrderingNames{
-    "ordering",
-    {{{VertexOrdering::Natural, "natural"}, {VertexOrdering::AMD, "amd"}, {VertexOrdering::METIS, "metis"}}}};
-constexpr const auto& option_names(VertexOrdering) { return kVertexOrderingNames; }
+/// The fill-reducing orderings of the vertex graph (ordering.hpp) that DiracAssembly and SpinTransform
+/// accept: none, CHOLMOD's AMD or METIS nested dissection. Others throw Error (BadInput).
+inline constexpr std::array<Ordering, 3> kVertexOrderings{Ordering::Natural, Ordering::AMD, Ordering::METIS};
+/// Their names (natural, amd, metis): the CLI's and Python's choices for `ordering`.
+inline std::vector<std::string> vertex_ordering_values() { return ordering_values(kVertexOrderings); }
 
 class DiracAssembly {
  public:
   /// Inputs: V (n×3), F (m×3, counter-clockwise, every face with positive area, every vertex in a
-  /// face), ordering, and the reduced (boundary) vertices with their 4×2 blocks U_i = W_i C_i (§5.7).
-  /// Throws Error on a degenerate face, an index out of range, an unreferenced vertex, a reduced
-  /// vertex listed twice or out of range.
-  DiracAssembly(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                VertexOrdering ordering = VertexOrdering::AMD, const Eigen::VectorXi& reduced_vertices = {},
+  /// face), ordering (one of kVertexOrderings), and the reduced (boundary) vertices with their 4×2 blocks U_i
+  /// = W_i C_i (§5.7). Throws Error on an unsupported ordering, a degenerate face, an index out of range, an
+  /// unreferenced vertex, a reduced vertex listed twice or out of range.
+  DiracAssembly(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Ordering ordering = Ordering::AMD,
+                const Eigen::VectorXi& reduced_vertices = {},
                 const std::vector<Eigen::Matrix<double, 4, 2>>& reductions = {});
 
   Eigen::Index num_vertices() const { return n_; }

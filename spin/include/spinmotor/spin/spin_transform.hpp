@@ -82,7 +82,7 @@ struct SpinTransformOptions {
   SpinScale scale = SpinScale::KeepArea;
   /// Fill-reducing ordering of the vertex graph. METIS costs more than AMD to compute but its factor
   /// needs 10–40% fewer flops; in bench_spin it lowered the total on all meshes (8k–400k faces).
-  VertexOrdering ordering = VertexOrdering::METIS;
+  Ordering ordering = Ordering::METIS;
   /// Baseline only: leave the vertices in input order and let CHOLMOD order the 4n×4n matrix itself
   /// with `ordering` (what a generic sparse Cholesky does); slower, kept for the benchmarks.
   bool order_full_matrix = false;

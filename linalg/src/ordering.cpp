@@ -1,0 +1,23 @@
+#include "spinmotor/linalg/ordering.hpp"
+
+#include <algorithm>
+
+#include "spinmotor/core/error.hpp"
+
+namespace spinmotor {
+
+void require_ordering(Ordering ordering, std::span<const Ordering> supported, std::string_view who) {
+  if (std::find(supported.begin(), supported.end(), ordering) != supported.end()) return;
+  std::string all;
+  for (Ordering o : supported) all += (all.empty() ? "" : ", ") + std::string(option_name(o));
+  throw Error(std::string(who) + ": ordering '" + std::string(option_name(ordering)) +
+              "' is not supported here (one of: " + all + ")");
+}
+
+std::vector<std::string> ordering_values(std::span<const Ordering> supported) {
+  std::vector<std::string> out;
+  for (Ordering o : supported) out.emplace_back(option_name(o));
+  return out;
+}
+
+}  // namespace spinmotor

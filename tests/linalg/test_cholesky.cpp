@@ -1,0 +1,186 @@
+// The one CHOLMOD wrapper (linalg/cholesky_solver.hpp) for real symmetric and complex Hermitian
+// matrices: agreement with dense factorizations, the partial solves (P, L, Lᴴ, Pᵀ) that Spectra's
+// Cholesky mode uses, and the one singularity rule (smallest pivot ≤ 1000·ε·max diagonal) on matrices
+// whose pivots are known in closed form.
+#include <Eigen/Dense>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <complex>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "spinmotor/core/error.hpp"
+#include "spinmotor/linalg/cholesky_solver.hpp"
+#include "spinmotor/mesh/cotangent_laplacian.hpp"
+#include "spinmotor/mesh/generators.hpp"
+#include "spinmotor/mesh/mass_matrix.hpp"
+
+using namespace spinmotor;
+using cd = std::complex<double>;
+
+namespace {
+
+// The tridiagonal A = L D Lᴴ with L unit lower bidiagonal (subdiagonal −e^{iθk}) and D = diag(1, …, 1,
+// δ): a path-graph Laplacian whose first vertex is grounded and whose last diagonal is 1 + δ instead
+// of 2. Its pivots in the natural order are exactly 1, …, 1, δ; its largest diagonal entry is 2.
+template <class Scalar>
+Eigen::SparseMatrix<Scalar> path_matrix(int n, double delta) {
+  std::vector<Eigen::Triplet<Scalar>> t;
+  for (int k = 0; k < n; ++k) {
+    t.emplace_back(k, k, Scalar(k == 0 ? 1.0 : k == n - 1 ? 1.0 + delta : 2.0));
+    if (k + 1 < n) {
+      Scalar off(-1.0);
+      if constexpr (!std::is_same_v<Scalar, double>) off = -std::polar(1.0, 0.7 * k);
+      t.emplace_back(k + 1, k, off);  // lower triangle only
+    }
+  }
+  Eigen::SparseMatrix<Scalar> A(n, n);
+  A.setFromTriplets(t.begin(), t.end());
+  A.makeCompressed();
+  return A;
+}
+
+// Lower triangle of a Hermitian positive definite matrix: the magnetic Laplacian of an icosphere
+// (off-diagonal −w_ij e^{iθ_ij}, PSD for any phases) plus a mass shift, and its dense full form.
+Eigen::SparseMatrix<cd> magnetic_laplacian(const Mesh& s, double shift, Eigen::MatrixXcd& dense) {
+  const Eigen::SparseMatrix<double> A =
+      Eigen::SparseMatrix<double>(cotangent_laplacian(s.V, s.F) + shift * mass_matrix(s.V, s.F));
+  std::vector<Eigen::Triplet<cd>> t;
+  for (int j = 0; j < A.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it)
+      if (it.row() > j)
+        t.emplace_back(static_cast<int>(it.row()), j, it.value() * std::polar(1.0, 0.3 * (it.row() - j)));
+      else if (it.row() == j)
+        t.emplace_back(j, j, it.value());
+  Eigen::SparseMatrix<cd> H(A.rows(), A.cols());
+  H.setFromTriplets(t.begin(), t.end());
+  H.makeCompressed();
+  const Eigen::MatrixXcd Lo = Eigen::MatrixXcd(H);
+  dense = Lo + Lo.adjoint();
+  dense.diagonal() = Lo.diagonal();
+  return H;
+}
+
+template <class Scalar>
+void check_singularity_rule() {
+  using Solver = BasicCholeskySolver<Scalar>;
+  for (auto ordering : {Ordering::Natural, Ordering::AMD})
+    for (bool super : {true, false}) {
+      INFO("supernodal " << super << ", ordering " << static_cast<int>(ordering));
+      Solver accepted({ordering, super});
+      // δ = 1e-11 > 1000·ε·2 = 4.4e-13: accepted, and the solve is right.
+      const Eigen::SparseMatrix<Scalar> A = path_matrix<Scalar>(40, 1e-11);
+      REQUIRE_NOTHROW(accepted.compute(A));
+      const Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> B =
+          Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>::Ones(40, 2);
+      const auto X = accepted.solve(B);
+      // Backward stable: residual ≲ n·ε·‖A‖·‖X‖ although cond(A) ~ 1e13.
+      const Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> AX =
+          A.template selfadjointView<Eigen::Lower>() * X;
+      CHECK((AX - B).cwiseAbs().maxCoeff() < 1e-12 * X.cwiseAbs().maxCoeff());
+      // δ = 1e-14 < 4.4e-13: rejected as numerically singular.
+      Solver rejected({ordering, super});
+      try {
+        rejected.compute(path_matrix<Scalar>(40, 1e-14));
+        FAIL("δ = 1e-14 was accepted");
+      } catch (const Error& e) {
+        CHECK(e.kind() == Error::Kind::Numerical);
+        CHECK_THAT(std::string(e.what()), Catch::Contains("CholeskySolver") &&
+                                              Catch::Contains("numerically singular") &&
+                                              Catch::Contains("smallest pivot"));
+      }
+      CHECK_FALSE(rejected.factorized());
+    }
+}
+
+}  // namespace
+
+TEST_CASE("Cholesky: pivots 1,…,1,δ are accepted for δ = 1e-11 and rejected for δ = 1e-14 (real)",
+          "[solvers]") {
+  check_singularity_rule<double>();
+}
+
+TEST_CASE("Cholesky: pivots 1,…,1,δ are accepted for δ = 1e-11 and rejected for δ = 1e-14 (complex)",
+          "[solvers]") {
+  check_singularity_rule<cd>();
+}
+
+TEST_CASE("Cholesky: complex Hermitian solves agree with a dense LLᴴ, for every ordering and both factors",
+          "[solvers]") {
+  const Mesh s = icosphere(2);
+  Eigen::MatrixXcd dense;
+  const Eigen::SparseMatrix<cd> H = magnetic_laplacian(s, 0.5, dense);
+  const Eigen::Index n = H.rows();
+  Eigen::MatrixXcd B(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) B.row(i) << cd(s.V(i, 0), s.V(i, 1)), cd(1.0, 0.0), cd(0.0, s.V(i, 2));
+  const Eigen::MatrixXcd Xref = dense.llt().solve(B);
+  for (auto ordering : {Ordering::Auto, Ordering::Natural, Ordering::AMD, Ordering::METIS, Ordering::NESDIS})
+    for (bool super : {true, false}) {
+      INFO("supernodal " << super << ", ordering " << static_cast<int>(ordering));
+      ComplexCholeskySolver c({ordering, super});
+      c.compute(H);
+      const Eigen::MatrixXcd X = c.solve(B);
+      CHECK((X - Xref).cwiseAbs().maxCoeff() < 1e-11 * Xref.cwiseAbs().maxCoeff());
+      // One column at a time equals the block.
+      for (int k = 0; k < 3; ++k)
+        CHECK((c.solve(B.col(k)) - X.col(k)).cwiseAbs().maxCoeff() < 1e-13 * X.col(k).cwiseAbs().maxCoeff());
+    }
+}
+
+TEST_CASE("Cholesky: the partial solves compose to A⁻¹ and L⁻¹P is a square root (real and complex)",
+          "[solvers]") {
+  const Mesh s = icosphere(2);
+  Eigen::MatrixXcd dense;
+  const Eigen::SparseMatrix<cd> H = magnetic_laplacian(s, 0.5, dense);
+  const Eigen::SparseMatrix<double> A =
+      Eigen::SparseMatrix<double>(cotangent_laplacian(s.V, s.F) + 0.5 * mass_matrix(s.V, s.F));
+  const Eigen::MatrixXd Ad = Eigen::MatrixXd(A);
+  const Eigen::Index n = A.rows();
+  Eigen::MatrixXd B(n, 2);
+  B << s.V.col(0), Eigen::VectorXd::Ones(n);
+  const Eigen::MatrixXcd Bc = B.cast<cd>() + cd(0, 1) * Eigen::MatrixXd(s.V.leftCols(2)).cast<cd>();
+  for (auto ordering : {Ordering::Natural, Ordering::AMD})
+    for (bool super : {true, false}) {
+      INFO("supernodal " << super << ", ordering " << static_cast<int>(ordering));
+      {
+        CholeskySolver c({ordering, super});
+        using S = CholeskySolver::System;
+        c.compute(A);
+        const Eigen::MatrixXd Y = c.solve(c.solve(B, S::P), S::L);  // L⁻¹ P B
+        const Eigen::MatrixXd X = c.solve(c.solve(Y, S::Lt), S::Pt);
+        CHECK((Ad * X - B).cwiseAbs().maxCoeff() < 1e-10);
+        // (L⁻¹PB)ᵀ(L⁻¹PB) = Bᵀ A⁻¹ B.
+        const Eigen::MatrixXd G = B.transpose() * c.solve(B);
+        CHECK((Y.transpose() * Y - G).cwiseAbs().maxCoeff() < 1e-10 * G.cwiseAbs().maxCoeff());
+      }
+      {
+        ComplexCholeskySolver c({ordering, super});
+        using S = ComplexCholeskySolver::System;
+        c.compute(H);
+        const Eigen::MatrixXcd Y = c.solve(c.solve(Bc, S::P), S::L);
+        const Eigen::MatrixXcd X = c.solve(c.solve(Y, S::Lt), S::Pt);
+        CHECK((dense * X - Bc).cwiseAbs().maxCoeff() < 1e-10);
+        const Eigen::MatrixXcd G = Bc.adjoint() * c.solve(Bc);
+        CHECK((Y.adjoint() * Y - G).cwiseAbs().maxCoeff() < 1e-10 * G.cwiseAbs().maxCoeff());
+      }
+    }
+}
+
+TEST_CASE("Cholesky: complex misuse and indefinite matrices are reported", "[solvers]") {
+  ComplexCholeskySolver c;
+  CHECK_THROWS_WITH(c.solve(Eigen::MatrixXcd::Ones(3, 1)), Catch::Contains("before a successful factorize"));
+  Eigen::SparseMatrix<cd> I(3, 3);
+  I.setIdentity();
+  I.makeCompressed();
+  c.compute(I);
+  CHECK_THROWS_WITH(c.solve(Eigen::MatrixXcd::Ones(2, 1)), Catch::Contains("right-hand side has 2 rows"));
+  Eigen::SparseMatrix<cd> N = I;
+  N.coeffRef(1, 1) = -1.0;
+  for (bool super : {true, false}) {
+    ComplexCholeskySolver d({Ordering::Natural, super});
+    CHECK_THROWS_WITH(d.compute(N), Catch::Contains("not positive definite"));
+  }
+  N.coeffRef(1, 1) = cd(std::nan(""), 0.0);
+  CHECK_THROWS_WITH(c.factorize(N), Catch::Contains("not finite"));
+}
