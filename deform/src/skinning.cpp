@@ -154,7 +154,7 @@ Eigen::MatrixXd read_skin_weights(const std::filesystem::path& path, std::span<c
            std::to_string(row) + ")");
     double sum = 0.0;
     for (int c = 0; c < B; ++c) {
-      double v;
+      double v = 0.0;
       std::size_t used = 0;
       try {
         v = std::stod(toks[c], &used);

@@ -19,7 +19,8 @@ GltfChannel rotation_channel(int node, const Eigen::Vector3d& axis, double degre
   c.node = node;
   c.path = GltfPath::Rotation;
   c.interpolation = GltfInterpolation::Linear;
-  c.times = Eigen::Vector3d(0.0, duration / 2, duration);
+  c.times.resize(3);
+  c.times << 0.0, duration / 2, duration;
   c.values.resize(3, 4);
   for (int k = 0; k < 3; ++k) {
     const double a = (k == 1 ? degrees : 0.0) * std::numbers::pi / 180.0;

@@ -104,8 +104,8 @@ class TriangleTree {
     int face;
   };
   struct Node {
-    Vec3 lo, hi;
-    int begin, end, left = -1, right = -1;
+    Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // the bounding box, set by build()
+    int begin = 0, end = 0, left = -1, right = -1;
   };
 
   static double box_sq_distance(const Node& nd, const Vec3& p) {
