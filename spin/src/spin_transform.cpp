@@ -14,6 +14,7 @@
 #include "spinmotor/core/stopwatch.hpp"
 #include "spinmotor/ga/quaternion.hpp"
 #include "spinmotor/linalg/cholesky_solver.hpp"
+#include "spinmotor/linalg/smallest_eigenpair.hpp"
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
 #include "spinmotor/mesh/topology.hpp"
@@ -25,13 +26,6 @@ namespace spinmotor {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// y = K x for K stored as its lower triangle (Hermitian for complex K).
-template <class Scalar>
-Eigen::Matrix<Scalar, Eigen::Dynamic, 1> sym_mul(const Eigen::SparseMatrix<Scalar>& K,
-                                                 const Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& x) {
-  return K.template selfadjointView<Eigen::Lower>() * x;
-}
 
 // Adds sigma to the diagonal (the first stored entry of each column of a lower triangle); returns the
 // mean diagonal before the shift.
@@ -51,197 +45,6 @@ bool values_finite(const Eigen::SparseMatrix<Scalar>& K) {
 template <class Scalar>
 void shift_diagonal(Eigen::SparseMatrix<Scalar>& K, double sigma) {
   for (Eigen::Index j = 0; j < K.cols(); ++j) K.valuePtr()[K.outerIndexPtr()[j]] += sigma;
-}
-
-// ‖K‖∞ of the symmetric (Hermitian) matrix stored as its lower triangle: max absolute row sum.
-template <class Scalar>
-double sym_norm_inf(const Eigen::SparseMatrix<Scalar>& K) {
-  Eigen::VectorXd rows = Eigen::VectorXd::Zero(K.rows());
-  for (Eigen::Index j = 0; j < K.outerSize(); ++j)
-    for (typename Eigen::SparseMatrix<Scalar>::InnerIterator it(K, j); it; ++it) {
-      const double v = std::abs(it.value());
-      rows[it.row()] += v;
-      if (it.row() != j) rows[j] += v;
-    }
-  return rows.size() ? rows.maxCoeff() : 0.0;
-}
-
-struct IterationResult {
-  double theta = 0;
-  double residual = 0;
-  int iterations = 0;
-};
-
-// Stops at the tolerance, or at the roundoff floor of the residual: ‖K_s x − θGx‖/‖K_s x‖ cannot go
-// below ~ε‖K_s‖‖x‖/‖K_s x‖ (= ε‖K_s‖/θ_s for eq. 7: ~1e-8 when the smallest eigenvalue sits at the
-// shift, ρ = 0; ~4e-9 on the 28k-face capsule, where the residual stalls at 1.6e-10). As a safety
-// net, also when it has stalled below 1e-6 (less than 10% progress in 4 iterations).
-class Convergence {
- public:
-  Convergence(double tol, double norm_k) : tol_(tol), norm_k_(norm_k) {}
-  /// residual and ‖K_s x‖/‖x‖ of the current iterate.
-  bool done(double residual, double kx) {
-    const double floor = std::numeric_limits<double>::epsilon() * norm_k_ / kx;
-    if (residual < std::max(tol_, floor)) return true;
-    if (residual < 0.9 * best_)
-      best_ = residual, since_ = 0;
-    else
-      ++since_;
-    return best_ < 1e-6 && since_ >= 4;
-  }
-
- private:
-  double tol_, norm_k_, best_ = std::numeric_limits<double>::infinity();
-  int since_ = 0;
-};
-
-// Inverse iteration x ← K⁻¹x (or K⁻¹Gx for eq. 6) on one factorization; K includes the shift sigma.
-template <class Scalar, class Solve>
-IterationResult inverse_iteration(const Eigen::SparseMatrix<Scalar>& K, const Eigen::SparseMatrix<Scalar>* G,
-                                  const Solve& solve, double sigma, const SpinTransformOptions& o,
-                                  Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& x) {
-  using Vec = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
-  IterationResult r;
-  Convergence conv(o.tolerance, sym_norm_inf(K));
-  for (int it = 0; it < o.iterations; ++it) {
-    Vec y = G ? solve(sym_mul(*G, x)) : solve(x);
-    const double ny = y.norm();
-    if (!(ny > 0) || !std::isfinite(ny))
-      throw numerical_error("spin_transform: inverse iteration broke down");
-    y /= ny;
-    const Vec Ky = sym_mul(K, y);
-    const double nKy = Ky.norm();
-    if (G) {
-      const Vec Gy = sym_mul(*G, y);
-      r.theta = (std::real(y.dot(Ky)) - sigma) / std::real(y.dot(Gy));  // Rayleigh quotient, unshifted pencil
-      r.residual = (Ky - (r.theta * Gy + sigma * y)).norm() / nKy;
-    } else {
-      const double th = std::real(y.dot(Ky));
-      r.residual = (Ky - th * y).norm() / nKy;
-      r.theta = th - sigma;
-    }
-    x = std::move(y);
-    r.iterations = it + 1;
-    if (!o.fixed_iterations && conv.done(r.residual, nKy)) break;
-  }
-  return r;
-}
-
-// Inverse iteration accelerated by Rayleigh–Ritz on all its iterates (i.e. on the Krylov space of
-// K⁻¹, or K⁻¹G, built from the start vector): the same solves as inverse iteration, but the Ritz
-// vector converges at the Lanczos rate instead of the power rate θ1/θ2. The basis is kept orthonormal
-// (classical Gram–Schmidt, twice) and restarted from the current Ritz vector when it reaches
-// `max_basis` vectors.
-template <class Scalar, class Solve>
-IterationResult krylov_inverse_iteration(const Eigen::SparseMatrix<Scalar>& K,
-                                         const Eigen::SparseMatrix<Scalar>* G, const Solve& solve,
-                                         double sigma, const SpinTransformOptions& o,
-                                         Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& x, int max_basis = 24) {
-  using Vec = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
-  using Mat = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
-  const Eigen::Index N = x.size();
-  Mat Vb(N, max_basis), W(N, max_basis), Z;  // basis, K·basis, G·basis
-  Mat Hk(max_basis, max_basis), Hgk;         // projections Vbᴴ W and Vbᴴ Z, grown one row/column per step
-  if (G) Z.resize(N, max_basis), Hgk.resize(max_basis, max_basis);
-  int k = 0;
-  // Matrix–vector products only (Eigen would run N×k by N×k products through its OpenMP GEMM).
-  auto project = [&](int j) {
-    const Vec hv = Vb.leftCols(j + 1).adjoint() * W.col(j);
-    Hk.col(j).head(j + 1) = hv;
-    Hk.row(j).head(j + 1) = hv.adjoint();
-    if (G) {
-      const Vec hg = Vb.leftCols(j + 1).adjoint() * Z.col(j);
-      Hgk.col(j).head(j + 1) = hg;
-      Hgk.row(j).head(j + 1) = hg.adjoint();
-    }
-  };
-  auto push = [&](Vec v) -> bool {
-    const double n0 = v.norm();
-    for (int pass = 0; pass < 2; ++pass)
-      if (k > 0) v -= Vb.leftCols(k) * (Vb.leftCols(k).adjoint() * v);
-    const double nv = v.norm();
-    // Nothing new: the Krylov space is invariant and its Ritz pairs are exact.
-    if (!(nv > 1e-12 * n0) || !std::isfinite(nv)) return false;
-    Vb.col(k) = v / nv;
-    W.col(k) = sym_mul(K, Vec(Vb.col(k)));
-    if (G) Z.col(k) = sym_mul(*G, Vec(Vb.col(k)));
-    project(k);
-    ++k;
-    return true;
-  };
-  IterationResult r;
-  Convergence conv(o.tolerance, sym_norm_inf(K));
-  x.normalize();
-  const Vec x0 = x;
-  push(x);
-  Vec last = x;
-  for (int it = 0; it < o.iterations; ++it) {
-    Vec y = G ? solve(sym_mul(*G, last)) : solve(last);
-    if (!y.allFinite()) throw numerical_error("spin_transform: inverse iteration broke down");
-    if (k == max_basis) {  // restart from the current Ritz vector
-      Vb.col(0) = x;
-      W.col(0) = sym_mul(K, x);
-      if (G) Z.col(0) = sym_mul(*G, x);
-      project(0);
-      k = 1;
-    }
-    const bool grew = push(y);
-    r.iterations = it + 1;
-    // Rayleigh–Ritz. When the wanted Ritz value is (nearly) multiple — a quaternionic eigenvalue in
-    // the complex form, or a degenerate kernel such as the extra exact solutions of a flat disk with
-    // ρ = 0 — any vector of its eigenspace is a solution, and rounding noise would pick one at random;
-    // take the projection of the start vector instead, which is what plain inverse iteration
-    // converges to.
-    const Mat H = Hk.topLeftCorner(k, k);
-    Mat Uc;  // Ritz vectors (basis coordinates) of the wanted cluster
-    if (!G) {
-      Eigen::SelfAdjointEigenSolver<Mat> es(H);
-      const Eigen::VectorXd& ev = es.eigenvalues();
-      int c = 1;
-      while (c < k && ev[c] - ev[0] <= 1e-6 * std::abs(ev[0])) ++c;
-      Uc = es.eigenvectors().leftCols(c);
-      r.theta = ev[0];
-    } else {
-      const Mat Hg = Hgk.topLeftCorner(k, k);
-      // Hg u = μ H u with H positive definite; the largest |μ| is the smallest |γ| = |1/μ|.
-      Eigen::GeneralizedSelfAdjointEigenSolver<Mat> es(Hg, H);
-      const Eigen::VectorXd& mu = es.eigenvalues();
-      Eigen::Index best = 0;
-      mu.cwiseAbs().maxCoeff(&best);
-      std::vector<Eigen::Index> cl;
-      for (Eigen::Index i = 0; i < mu.size(); ++i)
-        if (std::abs(mu[i] - mu[best]) <= 1e-6 * std::abs(mu[best])) cl.push_back(i);
-      Uc.resize(k, static_cast<Eigen::Index>(cl.size()));
-      for (std::size_t i = 0; i < cl.size(); ++i)
-        Uc.col(static_cast<Eigen::Index>(i)) = es.eigenvectors().col(cl[i]);
-      r.theta = 1.0 / mu[best];
-    }
-    Eigen::Matrix<Scalar, Eigen::Dynamic, 1> u;
-    if (Uc.cols() == 1) {
-      u = Uc.col(0);
-    } else {
-      const Vec c0 = Vb.leftCols(k).adjoint() * x0;
-      u = Uc * Uc.colPivHouseholderQr().solve(c0);
-      if (!(u.norm() > 1e-8 * c0.norm())) u = Uc.col(0);  // the start has no component there
-    }
-    x = Vb.leftCols(k) * u;
-    const double nx = x.norm();
-    x /= nx;
-    const Vec Kx = W.leftCols(k) * u / nx;
-    const double nKx = Kx.norm();
-    if (G) {
-      const Vec Gx = Z.leftCols(k) * u / nx;
-      // Unshifted pencil: A*A = K − σ; its Rayleigh quotient on the Ritz vector.
-      r.theta = (std::real(x.dot(Kx)) - sigma) / std::real(x.dot(Gx));
-      r.residual = (Kx - (r.theta * Gx + sigma * x)).norm() / nKx;
-    } else {
-      r.residual = (Kx - r.theta * x).norm() / nKx;
-      r.theta -= sigma;
-    }
-    last = Vb.col(k - 1);
-    if (conv.done(r.residual, nKx) || !grew) break;
-  }
-  return r;
 }
 
 }  // namespace
@@ -567,22 +370,29 @@ SpinTransformResult SpinTransform::solve_impl(const Eigen::VectorXd& rho, bool r
     // The constants solve (D − 0)λ = 0 exactly; (6) is singular on them (γ = 0).
     res.lambda = Eigen::MatrixXd::Zero(n, 4);
     res.lambda.col(0).setOnes();
-  } else if (s.complex) {
-    Eigen::VectorXcd x = s.cstart;
-    auto solve = [&](const Eigen::VectorXcd& b) -> Eigen::VectorXcd { return s.cchol.solve(b); };
-    const IterationResult r = o.fixed_iterations || !o.krylov
-                                  ? inverse_iteration(s.Kc, gen ? &s.Gc : nullptr, solve, sigma, o, x)
-                                  : krylov_inverse_iteration(s.Kc, gen ? &s.Gc : nullptr, solve, sigma, o, x);
-    theta = r.theta, res.residual = r.residual, res.iterations = r.iterations;
-    res.lambda = s.as->expand(x, s.scale);
   } else {
-    Eigen::VectorXd x = s.start;
-    auto solve = [&](const Eigen::VectorXd& b) -> Eigen::VectorXd { return s.chol.solve(b); };
-    const IterationResult r = o.fixed_iterations || !o.krylov
-                                  ? inverse_iteration(s.K, gen ? &s.G : nullptr, solve, sigma, o, x)
-                                  : krylov_inverse_iteration(s.K, gen ? &s.G : nullptr, solve, sigma, o, x);
-    theta = r.theta, res.residual = r.residual, res.iterations = r.iterations;
-    res.lambda = s.as->expand(x, s.scale);
+    const SmallestEigenpairOptions eo{.tolerance = o.tolerance,
+                                      .iterations = o.iterations,
+                                      .fixed_iterations = o.fixed_iterations,
+                                      .krylov = o.krylov,
+                                      .who = "spin_transform"};
+    SmallestEigenpair r;
+    if (s.complex) {
+      Eigen::VectorXcd x = s.cstart;
+      const SolveFunction<std::complex<double>> solve = [&](const Eigen::VectorXcd& b) -> Eigen::VectorXcd {
+        return s.cchol.solve(b);
+      };
+      r = smallest_eigenpair<std::complex<double>>(s.Kc, gen ? &s.Gc : nullptr, solve, sigma, eo, x);
+      res.lambda = s.as->expand(x, s.scale);
+    } else {
+      Eigen::VectorXd x = s.start;
+      const SolveFunction<double> solve = [&](const Eigen::VectorXd& b) -> Eigen::VectorXd {
+        return s.chol.solve(b);
+      };
+      r = smallest_eigenpair<double>(s.K, gen ? &s.G : nullptr, solve, sigma, eo, x);
+      res.lambda = s.as->expand(x, s.scale);
+    }
+    theta = r.eigenvalue, res.residual = r.residual, res.iterations = r.iterations;
   }
   if (o.problem == SpinEigenProblem::Standard) theta /= s.scale_c * s.scale_c;  // γ of A*Aλ = γ M_V λ
   res.eigenvalue = theta;
