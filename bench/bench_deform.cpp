@@ -50,7 +50,9 @@ std::vector<Handle> handle_sets(const Mesh& m, int k) {
       static_cast<int>(std::lround(2.0 * M_PI / std::atan2(m.V(1, 1), m.V(1, 0))));  // vertex 1 at 2π/sides
   const int rings = static_cast<int>(m.V.rows() / sides);
   auto ring = [&](int r, int j0, int j1) {
-    Handle h{"h" + std::to_string(r), Eigen::VectorXi(j1 - j0)};
+    std::string name = "h";  // not "h" + to_string(r): GCC 12's -Wrestrict false positive (bug 105329)
+    name += std::to_string(r);
+    Handle h{std::move(name), Eigen::VectorXi(j1 - j0)};
     for (int j = j0; j < j1; ++j) h.vertices[j - j0] = r * sides + j;
     return h;
   };

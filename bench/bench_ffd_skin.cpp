@@ -107,8 +107,11 @@ const SkinSetup& skin_setup() {
     SkinSetup s;
     const Mesh& m = tube_1m();
     const int B = 8;
-    for (int j = 0; j < B; ++j)
-      s.bones.push_back({"b" + std::to_string(j), j - 1, {0, 0, 10.0 * j / B}, {0, 0, 10.0 * (j + 1) / B}});
+    for (int j = 0; j < B; ++j) {
+      std::string name = "b";  // not "b" + to_string(j): GCC 12's -Wrestrict false positive (bug 105329)
+      name += std::to_string(j);
+      s.bones.push_back({std::move(name), j - 1, {0, 0, 10.0 * j / B}, {0, 0, 10.0 * (j + 1) / B}});
+    }
     std::vector<Eigen::Triplet<double>> t;
     for (Eigen::Index i = 0; i < m.V.rows(); ++i) {
       const double z = m.V(i, 2) / 10.0 * B - 0.5;  // bone centres at j

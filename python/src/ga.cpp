@@ -8,6 +8,16 @@ namespace spinmotor::python {
 
 namespace {
 
+/// A 3-vector as a dynamic one, element by element (GCC 12 reports the vectorised fixed → dynamic copy
+/// as reading past the 3 doubles, -Warray-bounds; it does not).
+Eigen::VectorXd to_dynamic(const Eigen::Vector3d& v) {
+  Eigen::VectorXd out(3);
+  out[0] = v[0];
+  out[1] = v[1];
+  out[2] = v[2];
+  return out;
+}
+
 Eigen::Vector3d to_vec3(py::handle obj, const char* name) { return to_vector(obj, name, 3); }
 
 ga::Mot from_matrix(py::handle obj) {
@@ -116,7 +126,7 @@ Composition: a * b applies b first, then a (as matrices).
           },
           "coefficients() -> (8,) float64 (s, e12, e31, e23, e1inf, e2inf, e3inf, e123inf).")
       .def(
-          "translation", [](const ga::Mot& self) { return to_numpy(Eigen::VectorXd(ga::translation(self))); },
+          "translation", [](const ga::Mot& self) { return to_numpy(to_dynamic(ga::translation(self))); },
           "translation() -> (3,) the translation part t of x -> R x + t.")
       .def(
           "inverse", [](const ga::Mot& self) { return ga::Mot(ga::reverse(self)); },
@@ -131,7 +141,7 @@ Composition: a * b applies b first, then a (as matrices).
             py::array raw = py::array::ensure(points);
             if (raw && raw.ndim() == 1) {  // one point
               const Eigen::Vector3d p = to_vec3(points, "points");
-              return to_numpy(Eigen::VectorXd(ga::transform(self, p)));
+              return to_numpy(to_dynamic(ga::transform(self, p)));
             }
             const Eigen::MatrixXd P = to_points(points, "points");
             Eigen::MatrixXd out(P.rows(), 3);

@@ -29,7 +29,7 @@ struct PyRigPoser {
 
 scene::RigPoseOptions pose_options(int animation, const std::string& blend, const std::string& cleanup,
                                    double pin_threshold, double pin_margin, double pose_weight,
-                                   const std::string& space) {
+                                   const std::string& space, bool warm_start) {
   scene::RigPoseOptions o;
   o.animation = animation;
   o.blend = parse_option<SkinBlend>(blend, "blend: ");
@@ -38,6 +38,7 @@ scene::RigPoseOptions pose_options(int animation, const std::string& blend, cons
   o.cleanup_options.pin_margin = pin_margin;
   o.cleanup_options.pose_weight = pose_weight;
   o.space = parse_option<scene::RigSpace>(space, "space: ");
+  o.cleanup_options.cleanup.warm_start = warm_start;
   return o;
 }
 
@@ -209,16 +210,18 @@ Errors: spinmotor.Error for an animation out of range or a non-finite t.
       .def(
           "poser",
           [](const PyRig& r, int animation, const std::string& blend, const std::string& cleanup,
-             double pin_threshold, double pin_margin, double pose_weight, const std::string& space) {
-            return make_poser(
-                r, pose_options(animation, blend, cleanup, pin_threshold, pin_margin, pose_weight, space));
+             double pin_threshold, double pin_margin, double pose_weight, const std::string& space,
+             bool warm_start) {
+            return make_poser(r, pose_options(animation, blend, cleanup, pin_threshold, pin_margin,
+                                              pose_weight, space, warm_start));
           },
           py::arg("animation") = 0, py::arg("blend") = "lbs", py::arg("cleanup") = "none",
           py::arg("pin_threshold") = scene::RigCleanupOptions{}.pin_threshold,
           py::arg("pin_margin") = scene::RigCleanupOptions{}.pin_margin,
-          py::arg("pose_weight") = scene::RigCleanupOptions{}.pose_weight, py::arg("space") = "mesh", R"doc(
+          py::arg("pose_weight") = scene::RigCleanupOptions{}.pose_weight, py::arg("space") = "mesh",
+          py::arg("warm_start") = false, R"doc(
 poser(animation=0, blend="lbs", cleanup="none", pin_threshold=0.999, pin_margin=-1, pose_weight=10,
-      space="mesh")
+      space="mesh", warm_start=False)
   -> RigPoser: the skin (and, with cleanup="pinned", the pose-keeping cleanup) bound once
   (scene/rig_pose.hpp, as `spinmotor rig pose`), posed per time with RigPoser.pose(t).
 
@@ -227,7 +230,8 @@ Inputs:  animation: index into animations, -1 the rest pose; blend: lbs, dlb, lo
          than pin_margin from any blended vertex, stay put; pin_margin < 0: per bone, a quarter of
          the widest blend band of its joints; pose_weight: the attraction holding the soft parts near the
          skinned pose, scene/rig_cleanup.hpp); space: mesh (the file's POSITION frame) or scene (the
-         mesh node's global matrix applied).
+         mesh node's global matrix applied); warm_start: cleanup="pinned" for times posed in order,
+         each cleanup starts from the previous one's correction (faster; depends on the call order).
 Output:  a RigPoser.
 Errors:  spinmotor.Error for an unknown name (listing the valid ones), an animation out of range, a
          pin_threshold outside [0.5, 1], no pin found, a skeleton or mesh the deformers refuse.
@@ -236,12 +240,12 @@ Errors:  spinmotor.Error for an unknown name (listing the valid ones), an animat
           "bake",
           [](const PyRig& r, const std::filesystem::path& path, py::object frames, py::object times,
              int animation, const std::string& blend, const std::string& cleanup, double pin_threshold,
-             double pin_margin, double pose_weight, const std::string& space, py::object name) {
+             double pin_margin, double pose_weight, const std::string& space, py::object name,
+             bool warm_start) {
             if (frames.is_none() == times.is_none())
               throw Error("bake: give exactly one of frames (a count) and times (a list of seconds)");
-            scene::RigPoseOptions o =
-                pose_options(animation, blend, cleanup, pin_threshold, pin_margin, pose_weight, space);
-            o.cleanup_options.cleanup.warm_start = true;  // frames are cleaned in time order
+            const scene::RigPoseOptions o = pose_options(animation, blend, cleanup, pin_threshold, pin_margin,
+                                                         pose_weight, space, warm_start);
             std::vector<double> t;
             if (!times.is_none()) {
               const Eigen::VectorXd tv = to_vector(times, "times");
@@ -272,9 +276,10 @@ Errors:  spinmotor.Error for an unknown name (listing the valid ones), an animat
           py::arg("pin_threshold") = scene::RigCleanupOptions{}.pin_threshold,
           py::arg("pin_margin") = scene::RigCleanupOptions{}.pin_margin,
           py::arg("pose_weight") = scene::RigCleanupOptions{}.pose_weight, py::arg("space") = "mesh",
-          py::arg("name") = py::none(), R"doc(
+          py::arg("name") = py::none(), py::arg("warm_start") = true, R"doc(
 bake(path, frames=None, times=None, animation=0, blend="lbs", cleanup="none", pin_threshold=0.999,
-     pin_margin=-1, pose_weight=10, space="mesh", name=None) -> dict(frames (k, n, 3), times (k,))
+     pin_margin=-1, pose_weight=10, space="mesh", name=None, warm_start=True)
+  -> dict(frames (k, n, 3), times (k,))
 
 Poses the rig (as poser() with the same options) and writes the frames as a glTF 2.0 morph-target
 animation (.gltf or .glb; positions as float32; a STEP weights animation plays them; Blender shows shape
@@ -282,7 +287,8 @@ keys): what `spinmotor rig pose FILE --frames N --out path.glb` writes. With spa
 carries the mesh node's rest global matrix. Read it back with read_gltf_morph_animation(path).
 Inputs:  path (.gltf or .glb); exactly one of frames (count, spread evenly over the animation) and
          times (strictly increasing seconds); the poser options; name: the mesh and animation name
-         (default: the file's stem).
+         (default: the file's stem); warm_start: the frames' cleanups start from the previous
+         frame's correction (as `rig pose --frames`; False: each from its skinned pose alone).
 Output:  dict with frames (k, n, 3, mesh space, before float32 rounding) and times.
 Errors:  spinmotor.Error as poser(), for a bad path extension, non-increasing times; nothing is
          written then (the file is replaced atomically).

@@ -135,16 +135,21 @@ def test_bake_in_scene_space_with_cleanup_and_times(tmp_path, bent):
     expected = np.eye(4)
     expected[:3, 3] = [1, 2, 3]  # the mesh node's rest global matrix (the root's translation)
     assert np.array_equal(back["node_matrix"], expected)
-    poser = rig.poser(cleanup="pinned")  # mesh space: what a baked file stores
+    poser = rig.poser(cleanup="pinned", warm_start=True)  # mesh space: what a baked file stores
+    cold = rig.bake(tmp_path / "cold.gltf", times=times, cleanup="pinned", warm_start=False)
+    cold_poser = rig.poser(cleanup="pinned")
     assert 0 < len(poser.pins) < len(P)
     for k, t in enumerate(times):
-        mine = poser.pose(t)
+        mine = poser.pose(t)  # in the bake's order: the same warm start
         assert np.array_equal(out["frames"][k], mine)
+        assert np.array_equal(cold["frames"][k], cold_poser.pose(t))
+        if k == 0:
+            assert np.array_equal(cold["frames"][k], mine)  # nothing to carry yet
         assert np.abs(back["frames"][k] - mine).max() <= F32 * diag(P)
         assert np.array_equal(mine[poser.pins], rig.pose(t)[poser.pins])  # pins stay where the skin put them
-    # scene space positions are the mesh space ones moved by the node matrix
+    # scene space positions are the mesh space ones moved by the node matrix (a fresh poser: cold)
     np.testing.assert_allclose(rig.poser(cleanup="pinned", space="scene").pose(0.6),
-                               out["frames"][1] + [1, 2, 3], rtol=0, atol=1e-12)
+                               cold["frames"][1] + [1, 2, 3], rtol=0, atol=1e-12)
 
 
 @pytest.mark.skipif(not os.path.isfile(CLI), reason="SPINMOTOR_CLI (the spinmotor binary) not set")

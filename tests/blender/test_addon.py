@@ -275,7 +275,8 @@ def test_bake_cleanup(sm, addon):
     assert np.all((z < 1.55) | (z > 4.45)), "a pin inside the blend band"
     # The direct module call on the same arrays, with the rig defaults (pose attraction γ = 10, weights from
     # the bones), gives the same result.
-    attraction = sm.pin_attraction_from_weights(W32)
+    # (the add-on's threshold is a Blender float property: 0.999 rounded to float32)
+    attraction = sm.pin_attraction_from_weights(addon.meshdata.bone_weights(ob)[0], float(np.float32(0.999)))
     direct = sm.PinnedCleanup(V0, F, pins, pose_weight=10.0, attraction=attraction).cleanup(E, full=True)
     d = diag(E)
     dev = np.abs(direct["V"] - V).max() / d
@@ -369,11 +370,15 @@ def test_frame_range(sm, addon):
     bpy.ops.spinmotor.bake_cleanup(threshold=0.999, margin=0.5, frame_start=1, frame_end=2)
     L = addon.ops.LAST["bake_cleanup"]
     V0 = read_co(ob.data.vertices, len(Vc))
+    # The reference: the rig defaults (attraction from the bone weights, the add-on's float32 threshold) and
+    # the warm start, the frames cleaned in order as the add-on does.
+    a = sm.pin_attraction_from_weights(addon.meshdata.bone_weights(ob)[0], float(np.float32(0.999)))
+    ref_cleanup = sm.PinnedCleanup(V0, F, L["pins"], pose_weight=10.0, attraction=a, warm_start=True)
     for f in (1, 2):
         bpy.context.scene.frame_set(f)
         Vf = L["frames"][f]["V"]
         Ef = L["frames"][f]["V_edit"]
-        ref = sm.PinnedCleanup(V0, F, L["pins"]).cleanup(Ef)
+        ref = ref_cleanup.cleanup(Ef)
         assert np.abs(ref - Vf).max() <= 1e-12 * diag(Ef)
         got = evaluated(ob)
         err = np.abs(got - Vf).max() / diag(Vf)

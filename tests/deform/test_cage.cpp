@@ -140,7 +140,7 @@ TEST_CASE("cage deformer: rest pose, rigid motion in motor mode, position mode",
     // moving one cage vertex moves the mesh by λ_j times its displacement
     MatrixXd C = cage.V, V0;
     p.pose_points(C, V0);
-    C.row(3) += Eigen::RowVector3d(0.5, 0, 0);
+    C(3, 0) += 0.5;
     p.pose_points(C, V);
     CHECK(((V - V0).col(0) - 0.5 * p.coordinates().col(3)).cwiseAbs().maxCoeff() < 1e-12);
   }

@@ -96,7 +96,9 @@ TEST_CASE("FFD: moving one control moves exactly the vertices in its support", "
   const Index c = d.index(3, 5, 2);
   MatrixXd C = d.control_points(), V, V0;
   d.pose_points(C, V0);  // the undeformed lattice (equal to the rest mesh to rounding)
-  C.row(c) += Eigen::RowVector3d(0.3, -0.2, 0.5);
+  C(c, 0) += 0.3;  // component by component: a RowVector3d temporary trips GCC 12's -Wmaybe-uninitialized
+  C(c, 1) -= 0.2;
+  C(c, 2) += 0.5;
   d.pose_points(C, V);
   Index in_support = 0, wrong = 0;
   for (Index i = 0; i < m.V.rows(); ++i) {

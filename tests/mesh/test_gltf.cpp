@@ -549,7 +549,7 @@ TEST_CASE("gltf baked output: morph targets and a STEP weights animation read ba
     // Every glTF vertex: rest position = a surface vertex r; rest + target f = frame f of r (float32).
     for (size_t k = 0; k < pos.size() / 3; ++k) {
       const Eigen::RowVector3d x(pos[3 * k], pos[3 * k + 1], pos[3 * k + 2]);
-      Eigen::Index r;
+      Eigen::Index r = 0;
       CHECK((rig.mesh.V.rowwise() - x).rowwise().norm().minCoeff(&r) < 1e-7);
       for (int f = 0; f < 3; ++f) {
         const std::vector<float> d = floats(pr.targets[f].at("POSITION"));
@@ -595,7 +595,10 @@ TEST_CASE("gltf baked output read back: read_gltf_morph_animation, RigPoser and 
   const fs::path p = s.dir / "bar.gltf";
   bar_rig().write_embedded(p);
   const GltfRig rig = spinmotor::read_gltf(p);
-  spinmotor::scene::RigPoser poser(rig, {.animation = 0, .blend = spinmotor::SkinBlend::LBS});
+  spinmotor::scene::RigPoseOptions lbs;  // animation 0, LBS (the defaults, said here)
+  lbs.animation = 0;
+  lbs.blend = spinmotor::SkinBlend::LBS;
+  spinmotor::scene::RigPoser poser(rig, lbs);
   const std::vector<double> times = spinmotor::scene::rig_frame_times(rig, 0, 3);
   CHECK(times == std::vector<double>{0.0, 0.5, 1.0});
   for (const char* name : {"bar.glb", "bar-baked.gltf"}) {
@@ -625,7 +628,9 @@ TEST_CASE("gltf baked output read back: read_gltf_morph_animation, RigPoser and 
     CHECK((back.frames[0] - rig.mesh.V).cwiseAbs().maxCoeff() < 1e-7);  // t = 0 is the rest pose
   }
   // Scene space: the node carries the mesh node's rest global matrix; poses are moved by it.
-  spinmotor::scene::RigPoser placed(rig, {.space = spinmotor::scene::RigSpace::Scene});
+  spinmotor::scene::RigPoseOptions in_scene;
+  in_scene.space = spinmotor::scene::RigSpace::Scene;
+  spinmotor::scene::RigPoser placed(rig, in_scene);
   spinmotor::scene::bake_rig_gltf(s.dir / "placed.glb", placed, {0.25});
   CHECK(spinmotor::read_gltf_morph_animation(s.dir / "placed.glb").node_matrix ==
         spinmotor::node_world_matrices(rig, -1, 0.0)[rig.mesh_node]);
@@ -634,7 +639,9 @@ TEST_CASE("gltf baked output read back: read_gltf_morph_animation, RigPoser and 
   CHECK_THROWS_WITH(spinmotor::read_gltf_morph_animation(s.dir / "none.glb"),
                     Catch::Contains("no such file"));
   CHECK_THROWS_WITH(spinmotor::read_gltf(s.dir / "bar.glb"), Catch::Contains("no skinned mesh"));
-  CHECK_THROWS_WITH(spinmotor::scene::RigPoser(rig, {.animation = 3}), Catch::Contains("out of range"));
+  spinmotor::scene::RigPoseOptions third;
+  third.animation = 3;
+  CHECK_THROWS_WITH(spinmotor::scene::RigPoser(rig, third), Catch::Contains("out of range"));
   CHECK_THROWS_WITH(spinmotor::scene::bake_rig_gltf(s.dir / "bad.glb", poser, {0.5, 0.5}),
                     Catch::Contains("not after the previous"));
   CHECK(!fs::exists(s.dir / "bad.glb"));

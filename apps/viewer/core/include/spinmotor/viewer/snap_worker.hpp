@@ -42,7 +42,10 @@ class SnapWorker : public LatestJobWorker<SnapJob, SnapOutcome> {
   using LatestJobWorker::request;
   /// Queues a snap of V_edit (n×3) with `tradeoff` ∈ [0, 1]; replaces a queued one. Returns its generation.
   std::uint64_t request(Eigen::MatrixXd V_edit, double tradeoff) {
-    return request(SnapJob{std::move(V_edit), tradeoff, {}});
+    SnapJob job;
+    job.V_edit = std::move(V_edit);
+    job.tradeoff = tradeoff;
+    return request(std::move(job));
   }
   /// Queues the pose-keeping cleanup of V_edit with `pins` kept in place and the free vertices held
   /// near V_edit by the pose attraction (pose_weight γ, per-vertex `attraction`; spin/pinned_cleanup.hpp).
