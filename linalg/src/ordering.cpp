@@ -14,6 +14,14 @@ void require_ordering(Ordering ordering, std::span<const Ordering> supported, st
               "' is not supported here (one of: " + all + ")");
 }
 
+Ordering parse_ordering(std::string_view name, std::span<const Ordering> supported, std::string_view who) {
+  for (Ordering o : supported)
+    if (option_name(o) == name) return o;
+  std::string all;
+  for (Ordering o : supported) all += (all.empty() ? "" : ", ") + std::string(option_name(o));
+  throw Error(std::string(who) + ": unknown ordering '" + std::string(name) + "' (one of: " + all + ")");
+}
+
 std::vector<std::string> ordering_values(std::span<const Ordering> supported) {
   std::vector<std::string> out;
   for (Ordering o : supported) out.emplace_back(option_name(o));

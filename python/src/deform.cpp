@@ -240,7 +240,7 @@ As-rigid-as-possible deformation (Sorkine & Alexa 2007): handle vertices are pla
 the free vertices solved by local/global iterations on a factorization made at bind time.
 
 ArapDeformer(V, F, handles, energy="spokes-and-rims", clamp_negative_weights=False, iterations=100,
-             tolerance=1e-6, initial="rest")
+             tolerance=1e-6, initial="harmonic")
   energy: "spokes" | "spokes-and-rims"; initial: "rest" | "harmonic" | "previous".
 Errors: as SurfaceHarmonicDeformer; numerical Error if the factorization fails.
 )doc")

@@ -421,13 +421,7 @@ Errors: spinmotor.Error naming the first offender or the bad option value (listi
                o.problem = parse_option<SpinEigenProblem>(problem, "problem: ");
                o.scale = parse_option<SpinScale>(scale, "scale: ");
                // Only the vertex orderings (kVertexOrderings), and the message lists only those.
-               const std::vector<std::string> allowed = vertex_ordering_values();
-               if (std::find(allowed.begin(), allowed.end(), ordering) == allowed.end()) {
-                 std::string all;
-                 for (const std::string& a : allowed) all += (all.empty() ? "" : ", ") + a;
-                 throw Error("ordering: unknown ordering '" + ordering + "' (one of: " + all + ")");
-               }
-               o.ordering = parse_option<Ordering>(ordering, "ordering: ");
+               o.ordering = parse_ordering(ordering, kVertexOrderings, "ordering");
                PySpin p;
                py::gil_scoped_release release;
                p.st = std::make_unique<SpinTransform>(mesh, o);

@@ -1,7 +1,5 @@
 #include "spinmotor/spin/dirac_assembly.hpp"
 
-#include <cholmod.h>
-
 #include <algorithm>
 #include <limits>
 #include <numeric>
@@ -9,6 +7,7 @@
 
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/core/parallel.hpp"
+#include "spinmotor/linalg/graph_ordering.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
 #include "spinmotor/mesh/topology.hpp"
 #include "spinmotor/spin/quaternion_matrix.hpp"
@@ -25,36 +24,6 @@ void check_rho(const Eigen::VectorXd& rho, Eigen::Index m) {
     s << "DiracAssembly: rho has " << rho.size() << " values for " << m << " faces";
     throw Error(s.str());
   }
-}
-
-// Fill-reducing ordering of the symmetric graph given by its full CSC pattern (diagonal included).
-Eigen::VectorXi graph_ordering(Eigen::Index n, std::vector<int>& colptr, std::vector<int>& rowind,
-                               Ordering ordering) {
-  Eigen::VectorXi perm(n);
-  if (ordering == Ordering::Natural || n == 0) {
-    std::iota(perm.begin(), perm.end(), 0);
-    return perm;
-  }
-  cholmod_common c;
-  cholmod_start(&c);
-  c.print = 0;
-  c.error_handler = nullptr;
-  cholmod_sparse A{};
-  A.nrow = A.ncol = static_cast<size_t>(n);
-  A.nzmax = rowind.size();
-  A.p = colptr.data();
-  A.i = rowind.data();
-  A.stype = 1;  // symmetric, upper triangle read
-  A.itype = CHOLMOD_INT;
-  A.xtype = CHOLMOD_PATTERN;
-  A.dtype = CHOLMOD_DOUBLE;
-  A.sorted = 1;
-  A.packed = 1;
-  const int ok = ordering == Ordering::AMD ? cholmod_amd(&A, nullptr, 0, perm.data(), &c)
-                                           : cholmod_metis(&A, nullptr, 0, 1, perm.data(), &c);
-  cholmod_finish(&c);
-  if (!ok) throw numerical_error("DiracAssembly: CHOLMOD could not order the vertex graph");
-  return perm;
 }
 
 }  // namespace
@@ -145,7 +114,7 @@ DiracAssembly::DiracAssembly(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
       for (int* a = b + 1; a < en; ++a)  // short columns: insertion sort
         for (int* c = a; c > b && c[-1] > c[0]; --c) std::swap(c[-1], c[0]);
     }
-    order_ = graph_ordering(n_, colptr, rowind, ordering);
+    order_ = graph_ordering(n_, colptr, rowind, ordering, "DiracAssembly");
   }
   rank_.resize(n_);
   for (Eigen::Index k = 0; k < n_; ++k) rank_[order_[k]] = static_cast<int>(k);

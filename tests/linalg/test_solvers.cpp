@@ -346,6 +346,19 @@ TEST_CASE("Ordering: one name table, each solver accepts its subset and names th
                       "mmd-ata, mmd-at-plus-a)"));
   CHECK(ordering_values(LUSolver::kOrderings) ==
         std::vector<std::string>{"natural", "colamd", "mmd-ata", "mmd-at-plus-a"});
+  // parse_ordering: a subset's names parse; a name of the table outside the subset is refused like an
+  // unknown one, and the message lists the subset only.
+  for (Ordering o : LUSolver::kOrderings) CHECK(parse_ordering(option_name(o), LUSolver::kOrderings, "lu") == o);
+  for (const char* bad : {"amd", "no-such"}) {
+    try {
+      (void)parse_ordering(bad, LUSolver::kOrderings, "lu");
+      FAIL("parse_ordering accepted " << bad);
+    } catch (const Error& e) {
+      CHECK(e.kind() == Error::Kind::BadInput);
+      CHECK(std::string(e.what()) == std::string("lu: unknown ordering '") + bad +
+                                         "' (one of: natural, colamd, mmd-ata, mmd-at-plus-a)");
+    }
+  }
 }
 
 TEST_CASE("Dirichlet: a given free order gives the same solution, solve_free and A_FC are its parts",

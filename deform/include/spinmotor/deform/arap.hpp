@@ -42,7 +42,7 @@
 // its position is undetermined: bind throws Error naming the component (index, size, a vertex), e.g.
 // for ogre.obj's 44 components. Degenerate faces are rejected by require() (naming the face).
 //
-// Initial guess of each pose:
+// Initial guess of each pose (default Harmonic):
 //   Rest      rest positions with the handles placed;
 //   Harmonic  surface harmonic coordinates (CGA paper §IV) blending the handle motors, exp(Σ λ_j log M_j),
 //             with the same cotangent Laplacian (λ solved with the ARAP factorization: k extra right-hand
@@ -108,7 +108,9 @@ class ArapDeformer {
     bool clamp_negative_weights = false;
     int iterations = 100;     ///< at most this many global steps per pose (≥ 0)
     double tolerance = 1e-6;  ///< relative energy change that stops the iteration (≥ 0)
-    ArapInitial initial = ArapInitial::Rest;
+    /// Harmonic by default: handles moved by one rigid motion then give that rigid motion at once
+    /// (from Rest, 30 iterations leave a tube visibly non-rigid); Rest skips the k extra solves at bind.
+    ArapInitial initial = ArapInitial::Harmonic;
     /// Factorization of L_FF (CHOLMOD). Auto: simplicial LDLᵀ up to kSupernodalFrom free vertices
     /// (its three-column solves are faster, which pays off after a few iterations), supernodal LLᵀ
     /// above (its factorization is much faster at 1M). Figures: docs/performance.md, "ARAP".

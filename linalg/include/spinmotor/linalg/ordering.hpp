@@ -46,6 +46,12 @@ constexpr const auto& option_names(Ordering) { return kOrderingNames; }
 /// `supported` contains `ordering`.
 void require_ordering(Ordering ordering, std::span<const Ordering> supported, std::string_view who);
 
+/// Inputs: an ordering's name, the ones a caller accepts, the caller's name for the message.
+/// Output: the ordering. Throws Error (BadInput) "<who>: unknown ordering 'x' (one of: a, b)" when
+/// `name` names none of `supported`, listing only those (for a binding or CLI that accepts a subset).
+[[nodiscard]] Ordering parse_ordering(std::string_view name, std::span<const Ordering> supported,
+                                      std::string_view who);
+
 /// The names of `supported`, in its order (for a CLI's choices or a Python option list).
 [[nodiscard]] std::vector<std::string> ordering_values(std::span<const Ordering> supported);
 
