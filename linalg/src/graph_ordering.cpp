@@ -10,13 +10,14 @@
 
 namespace spinmotor {
 
-Eigen::VectorXi graph_ordering(Eigen::Index n, std::span<int> colptr, std::span<int> rowind, Ordering ordering,
-                               std::string_view who) {
+Eigen::VectorXi graph_ordering(Eigen::Index n, std::span<int> colptr, std::span<int> rowind,
+                               Ordering ordering, std::string_view who) {
   static constexpr std::array<Ordering, 3> kSupported{Ordering::Natural, Ordering::AMD, Ordering::METIS};
   require_ordering(ordering, kSupported, who);
   if (n < 0 || colptr.size() != static_cast<std::size_t>(n) + 1 || colptr[0] != 0 ||
       static_cast<std::size_t>(colptr[static_cast<std::size_t>(n)]) != rowind.size())
-    throw Error(std::string(who) + ": graph_ordering: colptr must hold n + 1 offsets ending at rowind's size");
+    throw Error(std::string(who) +
+                ": graph_ordering: colptr must hold n + 1 offsets ending at rowind's size");
   Eigen::VectorXi perm(n);
   if (ordering == Ordering::Natural || n == 0) {
     std::iota(perm.begin(), perm.end(), 0);

@@ -348,7 +348,8 @@ TEST_CASE("Ordering: one name table, each solver accepts its subset and names th
         std::vector<std::string>{"natural", "colamd", "mmd-ata", "mmd-at-plus-a"});
   // parse_ordering: a subset's names parse; a name of the table outside the subset is refused like an
   // unknown one, and the message lists the subset only.
-  for (Ordering o : LUSolver::kOrderings) CHECK(parse_ordering(option_name(o), LUSolver::kOrderings, "lu") == o);
+  for (Ordering o : LUSolver::kOrderings)
+    CHECK(parse_ordering(option_name(o), LUSolver::kOrderings, "lu") == o);
   for (const char* bad : {"amd", "no-such"}) {
     try {
       (void)parse_ordering(bad, LUSolver::kOrderings, "lu");
