@@ -40,8 +40,8 @@ std::unique_ptr<SceneDeformer> bind_arap(const Scene& s) {
                                   {"ordering", br.ordering},
                                   {"supernodal", br.supernodal},
                                   {"factor_nonzeros", br.factor_nonzeros}}}};
-  auto report = [&s, handles = handle_report(s)](const AnyDeformer& any, std::span<const ga::Mot> m,
-                                                 const Eigen::MatrixXd& V) {
+  auto report = [handles = handle_report(s)](const AnyDeformer& any, std::span<const ga::Mot> m,
+                                             const Eigen::MatrixXd& V) {
     nlohmann::json j = handles(any, m, V);
     const ArapDeformer& a = *any.get<ArapDeformer>();
     const ArapReport& r = a.report();

@@ -23,8 +23,10 @@ namespace spinmotor {
 class AnyDeformer {
  public:
   AnyDeformer() = default;
-  template <Deformer D>
-  requires(!std::is_same_v<std::remove_cvref_t<D>, AnyDeformer>)
+  // The "not AnyDeformer" test comes first: checking Deformer<AnyDeformer> would ask whether AnyDeformer
+  // is move-constructible, which considers this constructor again (clang rejects the recursion).
+  template <class D>
+  requires(!std::is_same_v<std::remove_cvref_t<D>, AnyDeformer> && Deformer<D>)
       AnyDeformer(D deformer)  // NOLINT(google-explicit-constructor): a bound deformer *is* an AnyDeformer
       : self_(std::make_unique<Model<D>>(std::move(deformer))) {}
 
