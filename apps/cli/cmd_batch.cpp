@@ -250,7 +250,7 @@ void run(const BatchArgs& a) {
                 worst == 2 ? Error::Kind::BadInput : Error::Kind::Numerical);
 }
 
-const RegisterCommand reg{
+const RegisterCommand register_batch{
     "batch", "Run one subcommand over many meshes, one process per mesh, N at a time; resumable",
     [](CLI::App& sub) {
       auto a = std::make_shared<BatchArgs>();

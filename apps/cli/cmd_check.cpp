@@ -64,7 +64,7 @@ void print_table(const std::string& file, const MeshReport& r) {
                 r.components == 1 ? "one component" : (std::to_string(r.components) + " components").c_str());
 }
 
-const spinmotor::cli::RegisterCommand reg{
+const spinmotor::cli::RegisterCommand register_check{
     "check", "Validate a mesh: counts, topology and defects (exit 0 if it has no defect, 2 otherwise)",
     [](CLI::App& sub) {
       struct Args {

@@ -83,7 +83,7 @@ void run(const DeformArgs& a) {
   for (const auto& p : written) std::cout << "  wrote " << p.string() << '\n';
 }
 
-const spinmotor::cli::RegisterCommand reg{
+const spinmotor::cli::RegisterCommand register_deform{
     "deform", "Run a scene file: deform a mesh with motor handles and write the posed mesh and its metrics",
     [](CLI::App& sub) {
       auto a = std::make_shared<DeformArgs>();

@@ -451,7 +451,7 @@ void run_demo(Demo& d) {
   stage_gltf_rig(d);
 }
 
-const RegisterCommand reg{
+const RegisterCommand register_demo{
     "demo", "Run the main job on embedded procedural meshes; write out/ and print a summary",
     [](CLI::App& sub) {
       auto out = std::make_shared<std::string>("out");

@@ -73,7 +73,7 @@ void run(const ExtrudeArgs& a) {
   }
 }
 
-const cli::RegisterCommand reg{
+const cli::RegisterCommand register_extrude{
     "extrude", "Extrude a sphere back to a mesh's curvature (same connectivity; Le Folgoc 2019)",
     [](CLI::App& sub) {
       auto a = std::make_shared<ExtrudeArgs>();

@@ -72,7 +72,7 @@ void run(const FairArgs& a) {
   }
 }
 
-const cli::RegisterCommand reg{
+const cli::RegisterCommand register_fair{
     "fair", "Fair a closed mesh in curvature space, toward a round sphere for genus 0 (Le Folgoc 2019)",
     [](CLI::App& sub) {
       auto a = std::make_shared<FairArgs>();

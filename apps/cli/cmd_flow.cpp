@@ -89,7 +89,7 @@ void run(const FlowArgs& a) {
   }
 }
 
-const cli::RegisterCommand reg{
+const cli::RegisterCommand register_flow{
     "flow", "Conformal Willmore flow (rho = -tau H per step) or the minimal surface in one step (rho = -H)",
     [](CLI::App& sub) {
       auto a = std::make_shared<FlowArgs>();

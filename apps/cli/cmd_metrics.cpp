@@ -63,7 +63,7 @@ void print_table(const spinmotor::DeformationMetrics& m) {
   if (m.willmore_deformed) row("willmore_deformed", *m.willmore_deformed, "");
 }
 
-const spinmotor::cli::RegisterCommand reg{
+const spinmotor::cli::RegisterCommand register_metrics{
     "metrics", "Quality metrics of a deformation: quasi-conformal error, area/edge distortion, distances",
     [](CLI::App& sub) {
       struct Args {

@@ -16,7 +16,7 @@ namespace {
 
 using namespace spinmotor;
 
-const cli::RegisterCommand reg{
+const cli::RegisterCommand register_render{
     "render", "Render a mesh to PNG without a window (Q / checker / normal colours)", [](CLI::App& sub) {
       struct Args {
         std::string mesh, rest, out, color = "normals", size = "800x600", camera, up = "y", q_range = "1,2";

@@ -278,7 +278,7 @@ void run_pose(const RigArgs& a) {
     std::cout << "  wrote " << written.front().string() << " .. " << written.back().string() << '\n';
 }
 
-const spinmotor::cli::RegisterCommand reg{
+const spinmotor::cli::RegisterCommand register_rig{
     "rig", "glTF 2.0 skinned characters: print a rig's contents, pose its animation with a skinning blend",
     [](CLI::App& sub) {
       sub.require_subcommand(1);

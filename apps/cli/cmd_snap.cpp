@@ -36,7 +36,7 @@ namespace {
 
 using namespace spinmotor;
 
-const cli::RegisterCommand reg{
+const cli::RegisterCommand register_snap{
     "snap",
     "Snap an edited mesh onto its nearest spin transformation (conformal deformation) of the rest mesh",
     [](CLI::App& sub) {

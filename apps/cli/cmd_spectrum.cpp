@@ -17,7 +17,7 @@ namespace {
 
 using namespace spinmotor;
 
-const cli::RegisterCommand reg{
+const cli::RegisterCommand register_spectrum{
     "spectrum", "Eigenvalues nearest 0 of a discrete Dirac operator (constants removed)", [](CLI::App& sub) {
       struct Args {
         std::string mesh, op = "crane";

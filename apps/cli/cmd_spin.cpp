@@ -20,7 +20,7 @@ namespace {
 
 using namespace spinmotor;
 
-const cli::RegisterCommand reg{
+const cli::RegisterCommand register_spin{
     "spin", "Spin transformation (Crane et al. 2011) of a mesh for a painted curvature change rho",
     [](CLI::App& sub) {
       struct Args {

@@ -8,7 +8,7 @@
 #include "spinmotor/linalg/blas_threads.hpp"
 
 namespace {
-const spinmotor::cli::RegisterCommand reg{
+const spinmotor::cli::RegisterCommand register_version{
     "info", "Print the version and the libraries of this build", [](CLI::App& sub) {
       sub.callback([] {
         std::cout << "spinmotor " << SPINMOTOR_VERSION << "\n"

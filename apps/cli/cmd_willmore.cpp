@@ -17,7 +17,7 @@ namespace {
 
 using namespace spinmotor;
 
-const cli::RegisterCommand reg{
+const cli::RegisterCommand register_willmore{
     "willmore", "Discrete Willmore energy (face-based, Ye 2018 eq. 11, and vertex-based cotangent)",
     [](CLI::App& sub) {
       struct Args {

@@ -11,7 +11,7 @@ namespace spinmotor {
 
 namespace {
 
-constexpr const char* kWho = "DeltaMushDeformer";
+constexpr const char* kDeltaMush = "DeltaMushDeformer";
 
 /// A projected tangent shorter than this fraction of its edge counts as vanished (the edge is along n).
 constexpr double kTangentFloor = 1e-10;
@@ -31,10 +31,11 @@ DeltaMushDeformer DeltaMushDeformer::bind(const Mesh& rest, std::span<const Bone
 
 DeltaMushDeformer DeltaMushDeformer::finish(const Mesh& rest, SkinDeformer skin, const Options& options) {
   if (options.iterations < 0)
-    throw Error(std::string(kWho) + ": iterations must be >= 0, got " + std::to_string(options.iterations));
+    throw Error(std::string(kDeltaMush) + ": iterations must be >= 0, got " +
+                std::to_string(options.iterations));
   if (!(options.step > 0.0 && options.step <= 1.0))
-    throw Error(std::string(kWho) + ": step must be in (0, 1], got " + std::to_string(options.step));
-  detail::require_mush_mesh(rest, /*oriented=*/true, kWho);
+    throw Error(std::string(kDeltaMush) + ": step must be in (0, 1], got " + std::to_string(options.step));
+  detail::require_mush_mesh(rest, /*oriented=*/true, kDeltaMush);
 
   DeltaMushDeformer d;
   d.options_ = options;
@@ -57,7 +58,7 @@ DeltaMushDeformer DeltaMushDeformer::finish(const Mesh& rest, SkinDeformer skin,
   for (auto* buf : {&d.a_, &d.b_, &d.tan_, &d.bit_, &d.nrm_}) buf->resize(n, 3);
   d.smooth(rest.V);
   if (const int bad = d.frames(); bad >= 0)
-    throw Error(std::string(kWho) + ": the smoothed rest mesh has no normal or no tangent at vertex " +
+    throw Error(std::string(kDeltaMush) + ": the smoothed rest mesh has no normal or no tangent at vertex " +
                 std::to_string(bad) + " (its one-ring collapsed under " + std::to_string(options.iterations) +
                 " smoothing iterations)");
   d.delta_.resize(n, 3);
@@ -143,12 +144,12 @@ int DeltaMushDeformer::frames() {
 
 void DeltaMushDeformer::pose(std::span<const ga::Mot> frames_in, Eigen::MatrixXd& V_out) {
   if (frames_in.size() != controls().size())
-    throw Error(std::string(kWho) + ": " + std::to_string(frames_in.size()) + " bone frames for " +
+    throw Error(std::string(kDeltaMush) + ": " + std::to_string(frames_in.size()) + " bone frames for " +
                 std::to_string(controls().size()) + " bones");
   skin_.pose(frames_in, skinned_);  // checks the frames, naming the bone
   smooth(skinned_);
   if (const int bad = frames(); bad >= 0)
-    throw numerical_error(std::string(kWho) +
+    throw numerical_error(std::string(kDeltaMush) +
                           ": the smoothed posed mesh has no normal or no tangent at vertex " +
                           std::to_string(bad) + " (its one-ring collapsed)");
   const Eigen::Index n = vertices();

@@ -14,7 +14,7 @@ namespace spinmotor {
 
 namespace {
 
-constexpr const char* kWho = "DirectDeltaMushDeformer";
+constexpr const char* kDirectDeltaMush = "DirectDeltaMushDeformer";
 
 /// Right-hand-side block budget of one batch of bones at bind (doubles): 10 columns per bone.
 constexpr Eigen::Index kBatchDoubles = 8'000'000;
@@ -43,12 +43,15 @@ DirectDeltaMushDeformer DirectDeltaMushDeformer::bind(const Mesh& rest, std::spa
 DirectDeltaMushDeformer DirectDeltaMushDeformer::finish(const Mesh& rest, std::span<const Bone> bones,
                                                         const SkinDeformer& skin, const Options& options) {
   if (options.iterations < 0)
-    throw Error(std::string(kWho) + ": iterations must be >= 0, got " + std::to_string(options.iterations));
+    throw Error(std::string(kDirectDeltaMush) + ": iterations must be >= 0, got " +
+                std::to_string(options.iterations));
   if (!(options.tau > 0.0) || !std::isfinite(options.tau))
-    throw Error(std::string(kWho) + ": tau must be finite and > 0, got " + std::to_string(options.tau));
+    throw Error(std::string(kDirectDeltaMush) + ": tau must be finite and > 0, got " +
+                std::to_string(options.tau));
   if (!(options.prune >= 0.0 && options.prune < 1.0))
-    throw Error(std::string(kWho) + ": prune must be in [0, 1), got " + std::to_string(options.prune));
-  detail::require_mush_mesh(rest, /*oriented=*/false, kWho);
+    throw Error(std::string(kDirectDeltaMush) + ": prune must be in [0, 1), got " +
+                std::to_string(options.prune));
+  detail::require_mush_mesh(rest, /*oriented=*/false, kDirectDeltaMush);
 
   DirectDeltaMushDeformer d;
   d.options_ = options;
@@ -123,7 +126,7 @@ DirectDeltaMushDeformer DirectDeltaMushDeformer::finish(const Mesh& rest, std::s
   d.offset_.assign(static_cast<std::size_t>(n) + 1, 0);
   for (Eigen::Index i = 0; i < n; ++i) {
     if (kept[i].empty())  // impossible for prune < 1/B (the masses of a vertex sum to 1), kept as a guard
-      throw numerical_error(std::string(kWho) + ": vertex " + std::to_string(i) +
+      throw numerical_error(std::string(kDirectDeltaMush) + ": vertex " + std::to_string(i) +
                             " keeps no bone after pruning (prune " + std::to_string(options.prune) + ")");
     d.offset_[i + 1] = d.offset_[i] + static_cast<int>(kept[i].size());
   }
@@ -137,8 +140,8 @@ DirectDeltaMushDeformer DirectDeltaMushDeformer::finish(const Mesh& rest, std::s
 
 Eigen::Matrix4d DirectDeltaMushDeformer::omega(Eigen::Index i, int j) const {
   if (i < 0 || i >= vertices() || j < 0 || j >= static_cast<int>(bones_.size()))
-    throw Error(std::string(kWho) + "::omega: vertex " + std::to_string(i) + " or bone " + std::to_string(j) +
-                " out of range");
+    throw Error(std::string(kDirectDeltaMush) + "::omega: vertex " + std::to_string(i) + " or bone " +
+                std::to_string(j) + " out of range");
   Eigen::Matrix4d O = Eigen::Matrix4d::Zero();
   for (int a = offset_[i]; a < offset_[i + 1]; ++a)
     if (bone_[a] == j) {
@@ -152,7 +155,7 @@ Eigen::Matrix4d DirectDeltaMushDeformer::omega(Eigen::Index i, int j) const {
 }
 
 void DirectDeltaMushDeformer::pose(std::span<const ga::Mot> frames, Eigen::MatrixXd& V_out) {
-  detail::bone_matrices(bones_, frames, T_, kWho);
+  detail::bone_matrices(bones_, frames, T_, kDirectDeltaMush);
   const Eigen::Index n = vertices();
   if (V_out.rows() != n || V_out.cols() != 3) V_out.resize(n, 3);
   const Eigen::Matrix<double, 3, 4>* T = T_.data();

@@ -15,7 +15,7 @@
 namespace spinmotor {
 namespace {
 // Relative pivot size below which a factor is declared numerically singular (cond ≳ 4.5e12).
-constexpr double kSingular = 1e3 * std::numeric_limits<double>::epsilon();
+constexpr double kSingularPivot = 1e3 * std::numeric_limits<double>::epsilon();
 // Ordering::Auto switches from AMD to METIS at this many rows (bench_laplacian: AMD is faster
 // overall at 100k, METIS at 1M).
 constexpr Eigen::Index kAutoMetisRows = 500000;
@@ -115,7 +115,7 @@ struct BasicCholeskySolver<Scalar>::Impl {
         }
     // A positive semi-definite singular matrix (e.g. a Laplacian with a floating component) ends with
     // a roundoff pivot of either sign; a positive one passes the factorization. Every pivot of an SPD
-    // matrix is ≥ λ_min(A), so a pivot ≤ kSingular·max_j A(j,j) means cond(A) ≳ 1/kSingular:
+    // matrix is ≥ λ_min(A), so a pivot ≤ kSingularPivot·max_j A(j,j) means cond(A) ≳ 1/kSingularPivot:
     // numerically singular.
     double amax = 0;
     for (Eigen::Index j = 0; j < n; ++j)
@@ -141,7 +141,7 @@ struct BasicCholeskySolver<Scalar>::Impl {
         }
       }
     }
-    if (!(dmin > kSingular * amax)) {
+    if (!(dmin > kSingularPivot * amax)) {
       std::ostringstream why;
       why << "numerically singular, smallest pivot " << dmin << " vs largest diagonal entry " << amax;
       throw_not_pd(A, kmin, why.str());

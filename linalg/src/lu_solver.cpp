@@ -13,7 +13,7 @@
 namespace spinmotor {
 namespace {
 // Reciprocal condition number below which a factorization is declared numerically singular.
-constexpr double kSingular = 1e2 * std::numeric_limits<double>::epsilon();
+constexpr double kSingularRcond = 1e2 * std::numeric_limits<double>::epsilon();
 }  // namespace
 
 struct LUSolver::Impl {
@@ -194,7 +194,7 @@ void LUSolver::factorize(const Eigen::SparseMatrix<double>& A) {
   dgscon(norm, &m.L, &m.U, anorm, &m.rcond, &stat, &info);
   StatFree(&stat);
   Destroy_SuperMatrix_Store(&s);
-  if (!(m.rcond >= kSingular)) {
+  if (!(m.rcond >= kSingularRcond)) {
     // Name the column of the smallest pivot |U(k,k)| (stored in the supernodes of L).
     const SCformat* Ls = static_cast<const SCformat*>(m.L.Store);
     const double* x = static_cast<const double*>(Ls->nzval);

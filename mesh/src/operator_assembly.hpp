@@ -10,14 +10,12 @@
 
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/core/parallel.hpp"
+#include "spinmotor/mesh/face_geometry.hpp"  // kDegenerateFace
 
 namespace spinmotor::detail {
 
 /// Throws Error (prefixed with `who`) unless V is n×3 and finite and F is m×3 with indices in [0, n).
 void check_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const char* who);
-
-/// Relative threshold below which a face is degenerate: |(x1−x0)×(x2−x0)| ≤ kDegenerate·ℓ²max.
-inline constexpr double kDegenerate = 16.0 * std::numeric_limits<double>::epsilon();
 
 /// The error thrown for degenerate face f.
 [[noreturn]] void throw_degenerate(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen::Index f,
@@ -34,7 +32,7 @@ struct FaceFrame {
   Eigen::Vector3d cross;  ///< e(2)×(−e(1)) = (x1−x0)×(x2−x0), length dbl_area
   bool degenerate() const {
     const double lmax = std::max({l2[0], l2[1], l2[2]});
-    return !(dbl_area > kDegenerate * lmax);
+    return !(dbl_area > kDegenerateFace * lmax);
   }
 };
 

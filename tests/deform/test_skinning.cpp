@@ -58,12 +58,15 @@ MatrixXd random_weights(Index n, int B, std::mt19937& rng) {
 
 std::vector<Bone> six_bones() {
   std::vector<Bone> b;
-  for (int j = 0; j < 6; ++j)
-    b.push_back({"b" + std::to_string(j),
+  for (int j = 0; j < 6; ++j) {
+    std::string name = "b";  // not "b" + to_string(j): GCC 12's -Wrestrict false positive (bug 105329)
+    name += std::to_string(j);
+    b.push_back({name,
                  j - 1,
                  {0, 0, 1.0 * j},
                  {0, 0, 1.0 * j + 1},
                  rigid({1.0, static_cast<double>(j), 0.0}, 10 * j, {0, 0, 0.1 * j})});
+  }
   return b;
 }
 

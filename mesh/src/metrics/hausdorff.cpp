@@ -26,7 +26,7 @@ double triangle_sq_distance(const Vec3& p, const Vec3& a, const Vec3& b, const V
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
   const double area2 = ab.cross(ac).squaredNorm();
   const double l2 = std::max({ab.squaredNorm(), ac.squaredNorm(), (c - b).squaredNorm()});
-  if (!(area2 > detail::kDegenerate * detail::kDegenerate * l2 * l2))  // degenerate: nearest edge
+  if (!(area2 > kDegenerateFace * kDegenerateFace * l2 * l2))  // degenerate: nearest edge
     return std::min(
         {segment_sq_distance(p, a, b), segment_sq_distance(p, b, c), segment_sq_distance(p, c, a)});
   const double d1 = ab.dot(ap), d2 = ac.dot(ap);

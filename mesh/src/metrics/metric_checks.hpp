@@ -8,11 +8,9 @@
 #include <string>
 
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/mesh/face_geometry.hpp"  // kDegenerateFace
 
 namespace spinmotor::detail {
-
-/// |e1 × e2| at or below this multiple of ℓ²max is a degenerate triangle (face_geometry.hpp).
-inline constexpr double kDegenerate = 16.0 * std::numeric_limits<double>::epsilon();
 
 inline void check_points(const Eigen::MatrixXd& V, const char* who, const char* name) {
   if (V.cols() != 3)
@@ -50,7 +48,7 @@ inline double double_area(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Ei
   const Eigen::Vector3d e1 = x1 - x0, e2 = x2 - x0, e3 = x2 - x1;
   const double a2 = e1.cross(e2).norm();
   const double l2 = std::max({e1.squaredNorm(), e2.squaredNorm(), e3.squaredNorm()});
-  *degenerate = !(a2 > kDegenerate * l2);
+  *degenerate = !(a2 > kDegenerateFace * l2);
   return a2;
 }
 

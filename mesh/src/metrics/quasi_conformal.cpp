@@ -19,7 +19,7 @@ PlanarTriangle planar(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen:
   const double a2 = e1.cross(e2).norm();
   const double l2max = std::max({e1.squaredNorm(), e2.squaredNorm(), (x2 - x1).squaredNorm()});
   const double l1 = e1.norm();
-  if (!(a2 > detail::kDegenerate * l2max)) return {l1, 0.0, 0.0, true};
+  if (!(a2 > kDegenerateFace * l2max)) return {l1, 0.0, 0.0, true};
   return {l1, e1.dot(e2) / l1, a2 / l1, false};
 }
 

@@ -12,8 +12,12 @@
 // corner_angles are well defined there and do not throw. All functions also throw on F indices out of
 // range, on non-finite coordinates and on V/F without 3 columns.
 #include <Eigen/Core>
+#include <limits>
 
 namespace spinmotor {
+
+/// The 16·ε above: a face with |(x1−x0)×(x2−x0)| ≤ kDegenerateFace·ℓ²max is degenerate.
+inline constexpr double kDegenerateFace = 16.0 * std::numeric_limits<double>::epsilon();
 
 /// Inputs: V (n×3), F (m×3). Output: m areas (units of V squared). Zero for a degenerate face.
 Eigen::VectorXd face_areas(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
