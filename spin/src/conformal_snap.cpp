@@ -49,7 +49,7 @@ bool planar_frame(const Eigen::Vector3d& e1, const Eigen::Vector3d& e2, Eigen::M
                   Eigen::Matrix2d& P) {
   const Eigen::Vector3d c = e1.cross(e2);
   const double l2 = std::max({e1.squaredNorm(), e2.squaredNorm(), (e2 - e1).squaredNorm()});
-  if (!(c.norm() > 16.0 * std::numeric_limits<double>::epsilon() * l2)) return false;
+  if (!(c.norm() > kDegenerateFace * l2)) return false;
   const Eigen::Vector3d n = c.normalized(), u = e1.normalized(), w = n.cross(u);
   frame.col(0) = u, frame.col(1) = w, frame.col(2) = n;
   P << e1.dot(u), e2.dot(u), 0.0, e2.dot(w);

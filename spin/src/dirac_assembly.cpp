@@ -47,7 +47,7 @@ DiracAssembly::DiracAssembly(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     const Eigen::Vector3d cr = (x1 - x0).cross(x2 - x0);
     const double len = cr.norm();
     const double lmax = std::max({e[0].squaredNorm(), e[1].squaredNorm(), e[2].squaredNorm()});
-    if (!(len > 16.0 * std::numeric_limits<double>::epsilon() * lmax)) {
+    if (!(len > kDegenerateFace * lmax)) {
       std::ostringstream s;
       s << "DiracAssembly: face " << f << " (" << F(f, 0) << ", " << F(f, 1) << ", " << F(f, 2)
         << ") is degenerate (area " << area_[f] << ")";

@@ -19,28 +19,35 @@
 #include "spinmotor/core/stopwatch.hpp"
 #include "spinmotor/linalg/dirichlet_solver.hpp"
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
+#include "spinmotor/mesh/face_geometry.hpp"  // kDegenerateFace
 #include "spinmotor/mesh/mass_matrix.hpp"
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
 #include "spinmotor/mesh/topology.hpp"
 
 namespace spinmotor {
 
+namespace detail {
+
+/// Rest data of a face with at least one free corner. (In a named namespace: PinnedCleanup::Impl,
+/// which has external linkage, holds a vector of them.)
+struct PinnedActiveFace {
+  std::array<int, 3> v;        // corner vertices
+  double area;                 // rest area A_f
+  std::array<double, 6> grad;  // rest gradients ∇φ_i in the rest frame (b1, b2): (x0, y0, x1, y1, x2, y2)
+  Eigen::Vector3d b1, b2;      // orthonormal frame of the rest plane (the collapsed-face fallback at k = 0)
+};
+
+}  // namespace detail
+
 namespace {
 
 using Vec3 = Eigen::Vector3d;
 using Clock = std::chrono::steady_clock;
-
-/// Rest data of a face with at least one free corner.
-struct ActiveFace {
-  std::array<int, 3> v;        // corner vertices
-  double area;                 // rest area A_f
-  std::array<double, 6> grad;  // rest gradients ∇φ_i in the rest frame (b1, b2): (x0, y0, x1, y1, x2, y2)
-  Vec3 b1, b2;                 // orthonormal frame of the rest plane (the collapsed-face fallback at k = 0)
-};
+using ActiveFace = detail::PinnedActiveFace;
 
 inline bool collapsed(const Vec3& e1, const Vec3& e2, const Vec3& e3, const Vec3& nv) {
   const double l2 = std::max({e1.squaredNorm(), e2.squaredNorm(), e3.squaredNorm()});
-  return !(nv.norm() > 16.0 * std::numeric_limits<double>::epsilon() * l2);
+  return !(nv.norm() > kDegenerateFace * l2);
 }
 
 /// The proper rotation R maximising tr(R S) (S = Σ w e e'ᵀ): with S = U Σ Wᵀ, R = W diag(1, 1, ±1) Uᵀ.
