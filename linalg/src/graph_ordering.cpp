@@ -2,7 +2,6 @@
 
 #include <cholmod.h>
 
-#include <array>
 #include <numeric>
 #include <string>
 
@@ -12,8 +11,7 @@ namespace spinmotor {
 
 Eigen::VectorXi graph_ordering(Eigen::Index n, std::span<int> colptr, std::span<int> rowind,
                                Ordering ordering, std::string_view who) {
-  static constexpr std::array<Ordering, 3> kSupported{Ordering::Natural, Ordering::AMD, Ordering::METIS};
-  require_ordering(ordering, kSupported, who);
+  require_ordering(ordering, kGraphOrderings, who);
   if (n < 0 || colptr.size() != static_cast<std::size_t>(n) + 1 || colptr[0] != 0 ||
       static_cast<std::size_t>(colptr[static_cast<std::size_t>(n)]) != rowind.size())
     throw Error(std::string(who) +

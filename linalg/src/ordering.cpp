@@ -6,20 +6,28 @@
 
 namespace spinmotor {
 
-void require_ordering(Ordering ordering, std::span<const Ordering> supported, std::string_view who) {
-  if (std::find(supported.begin(), supported.end(), ordering) != supported.end()) return;
+namespace {
+
+// "a, b, c": the names of `supported`, for the messages below.
+std::string joined_names(std::span<const Ordering> supported) {
   std::string all;
   for (Ordering o : supported) all += (all.empty() ? "" : ", ") + std::string(option_name(o));
+  return all;
+}
+
+}  // namespace
+
+void require_ordering(Ordering ordering, std::span<const Ordering> supported, std::string_view who) {
+  if (std::find(supported.begin(), supported.end(), ordering) != supported.end()) return;
   throw Error(std::string(who) + ": ordering '" + std::string(option_name(ordering)) +
-              "' is not supported here (one of: " + all + ")");
+              "' is not supported here (one of: " + joined_names(supported) + ")");
 }
 
 Ordering parse_ordering(std::string_view name, std::span<const Ordering> supported, std::string_view who) {
   for (Ordering o : supported)
     if (option_name(o) == name) return o;
-  std::string all;
-  for (Ordering o : supported) all += (all.empty() ? "" : ", ") + std::string(option_name(o));
-  throw Error(std::string(who) + ": unknown ordering '" + std::string(name) + "' (one of: " + all + ")");
+  throw Error(std::string(who) + ": unknown ordering '" + std::string(name) +
+              "' (one of: " + joined_names(supported) + ")");
 }
 
 std::vector<std::string> ordering_values(std::span<const Ordering> supported) {

@@ -3,12 +3,16 @@
 // caller that assembles its own (block) matrix in the permuted order instead of handing CHOLMOD a
 // matrix (spin/dirac_assembly: the 4×4 quaternion blocks of the vertex graph).
 #include <Eigen/Core>
+#include <array>
 #include <span>
 #include <string_view>
 
 #include "spinmotor/linalg/ordering.hpp"
 
 namespace spinmotor {
+
+/// The orderings graph_ordering implements.
+inline constexpr std::array<Ordering, 3> kGraphOrderings{Ordering::Natural, Ordering::AMD, Ordering::METIS};
 
 /// Inputs: the full compressed-column pattern of a symmetric n×n graph (colptr: n + 1 offsets, rowind:
 /// row indices sorted within each column, both triangles and the diagonal present); an ordering among

@@ -36,13 +36,14 @@
 #include <string>
 #include <vector>
 
+#include "spinmotor/linalg/graph_ordering.hpp"
 #include "spinmotor/linalg/ordering.hpp"
 
 namespace spinmotor {
 
 /// The fill-reducing orderings of the vertex graph (ordering.hpp) that DiracAssembly and SpinTransform
-/// accept: none, CHOLMOD's AMD or METIS nested dissection. Others throw Error (BadInput).
-inline constexpr std::array<Ordering, 3> kVertexOrderings{Ordering::Natural, Ordering::AMD, Ordering::METIS};
+/// accept: none, CHOLMOD's AMD or METIS nested dissection (graph_ordering's). Others throw Error (BadInput).
+inline constexpr const auto& kVertexOrderings = kGraphOrderings;
 /// Their names (natural, amd, metis): the CLI's and Python's choices for `ordering`.
 inline std::vector<std::string> vertex_ordering_values() { return ordering_values(kVertexOrderings); }
 
