@@ -4,6 +4,7 @@
 
 #include "command.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/memory_budget.hpp"
 
 namespace spinmotor::cli {
 std::vector<Command>& commands() {
@@ -19,7 +20,14 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   auto& cmds = cli::commands();
   std::sort(cmds.begin(), cmds.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
-  for (auto& c : cmds) c.setup(*app.add_subcommand(c.name, c.description));
+  // Global: before or after the command's own arguments (subcommands fall through to it).
+  app.add_option_function<std::string>(
+         "--max-memory", [](const std::string& s) { set_memory_limit(parse_memory_size(s)); },
+         "Refuse work whose estimated memory exceeds SIZE (e.g. 512M, 8G) at once, with the estimate; "
+         "default: the memory available when the command starts")
+      ->type_name("SIZE")
+      ->trigger_on_parse();
+  for (auto& c : cmds) c.setup(*app.add_subcommand(c.name, c.description)->fallthrough());
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

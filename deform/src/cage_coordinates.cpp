@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/memory_budget.hpp"
 #include "spinmotor/core/parallel.hpp"
 #include "spinmotor/deform/deformer.hpp"
 #include "spinmotor/linalg/cholesky_solver.hpp"
@@ -145,6 +146,10 @@ Eigen::MatrixXd mean_value_coordinates(const Eigen::MatrixXd& C, const Eigen::Ma
   check_cage(C, CF);
   const Index n = X.rows(), k = C.rows();
   if (X.cols() != 3) throw Error("mean_value_coordinates: points must be n×3");
+  // Dense n×k weights (1M points × 98 cage vertices: 0.8 GB), checked before the O(n k) work.
+  require_memory(
+      mul_sat(static_cast<std::uint64_t>(n) * static_cast<std::uint64_t>(k), sizeof(double)),
+      "mean_value_coordinates: " + std::to_string(n) + " × " + std::to_string(k) + " dense weights");
   require_inside(C, CF, X);
   Eigen::MatrixXd W = Eigen::MatrixXd::Zero(n, k);
   const double eps = 1e-12 * cage_scale(C);
@@ -208,6 +213,34 @@ double harmonic_interpolation_bound(const Eigen::MatrixXd& C, int grid) {
   return std::sqrt(3.0) * cage_scale(C) / grid;
 }
 
+namespace {
+
+/// Estimated peak memory of harmonic_cage_coordinates on a grid of `nodes` nodes of spacing h, before
+/// any of it is allocated: the per-node rasterization arrays (distance, face, barycentric coordinates,
+/// class, index: 45 bytes), the right-hand sides and solutions (2 m k doubles), the 7-point matrix
+/// and its triplets, the Cholesky factor, and the n×k result. The unknowns m are the nodes inside the
+/// cage, |volume| / h³. Nested dissection of a 3D grid Laplacian fills the factor with about
+/// c m^(4/3) nonzeros (George 1973); c measured with CHOLMOD's METIS (docs/performance.md, "Memory
+/// estimates"): 4.1-7.2 on balls and 4.3-7.7 on cubes, grids 16-96 (m up to 885k), slowly growing with m.
+/// The estimate takes c = 8 up to 10^6 unknowns and grows it as (m / 10^6)^0.12 beyond (the growth
+/// between the two largest cubes).
+constexpr double kGridFactorFill = 8.0;
+std::uint64_t harmonic_grid_memory(const Eigen::MatrixXd& C, const Eigen::MatrixXi& CF, Index nodes, double h,
+                                   Index n) {
+  double volume = 0;
+  for (Index f = 0; f < CF.rows(); ++f)
+    volume += Vector3d(C.row(CF(f, 0))).dot(Vector3d(C.row(CF(f, 1))).cross(Vector3d(C.row(CF(f, 2))))) / 6;
+  const double m = std::min(static_cast<double>(nodes), std::abs(volume) / (h * h * h));
+  const double k = static_cast<double>(C.rows());
+  const double bytes =
+      45.0 * static_cast<double>(nodes) + 2 * m * k * 8 + 4 * m * (16 + 12) +
+      kGridFactorFill * std::max(1.0, std::pow(m / 1e6, 0.12)) * std::pow(m, 4.0 / 3.0) * 16 +
+      static_cast<double>(n) * k * 8;
+  return bytes >= 0x1p64 ? UINT64_MAX : static_cast<std::uint64_t>(bytes);
+}
+
+}  // namespace
+
 Eigen::MatrixXd harmonic_cage_coordinates(const Eigen::MatrixXd& C, const Eigen::MatrixXi& CF,
                                           const Eigen::MatrixXd& X, int grid) {
   check_cage(C, CF);
@@ -225,6 +258,9 @@ Eigen::MatrixXd harmonic_cage_coordinates(const Eigen::MatrixXd& C, const Eigen:
   for (int a = 0; a < 3; ++a) N[a] = static_cast<int>(std::ceil((hi[a] - lo[a]) / h - 1e-9)) + 2 * pad + 1;
   const Vector3d origin = lo - Vector3d::Constant(pad * h);
   const Index nodes = static_cast<Index>(N[0]) * N[1] * N[2];
+  require_memory(
+      harmonic_grid_memory(C, CF, nodes, h, n),
+      "harmonic_cage_coordinates: grid " + std::to_string(grid) + " (" + std::to_string(nodes) + " nodes)");
   auto id = [&](int x, int y, int z) { return (static_cast<Index>(x) * N[1] + y) * N[2] + z; };
   auto pos = [&](int x, int y, int z) { return Vector3d(origin + h * Vector3d(x, y, z)); };
 

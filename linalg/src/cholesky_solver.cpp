@@ -10,6 +10,7 @@
 
 #include "solver_detail.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/memory_budget.hpp"
 #include "spinmotor/linalg/blas_threads.hpp"
 
 namespace spinmotor {
@@ -207,6 +208,18 @@ void BasicCholeskySolver<Scalar>::analyze(const SparseMatrix& A) {
       cholmod_free_factor(&natural, &m.common);
       m.common.fl = fl, m.common.lnz = lnz;  // factor_flops() and factor_nonzeros() of the kept one
     }
+  }
+  // The symbolic analysis knows the factor's size: refuse before the numeric factorization what cannot
+  // fit (a value and a row index per nonzero, plus per-column bookkeeping).
+  const auto lnz = static_cast<std::uint64_t>(m.common.lnz);
+  const std::uint64_t estimate = add_sat(mul_sat(lnz, sizeof(Scalar) + sizeof(SuiteSparse_long)),
+                                         mul_sat(static_cast<std::uint64_t>(m.n), 64));
+  if (estimate > memory_limit()) {
+    std::ostringstream s;
+    s << kWho << ": the Cholesky factor of a " << m.n << "x" << m.n << " matrix (" << m.common.lnz
+      << " nonzeros after ordering)";
+    cholmod_free_factor(&m.L, &m.common);
+    require_memory(estimate, s.str());
   }
 }
 

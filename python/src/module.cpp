@@ -3,6 +3,7 @@
 #include <utility>
 
 #include "common.hpp"
+#include "spinmotor/core/memory_budget.hpp"
 #include "spinmotor/deform/arap.hpp"
 #include "spinmotor/deform/cage_deformer.hpp"
 #include "spinmotor/deform/ffd.hpp"
@@ -84,4 +85,25 @@ PYBIND11_MODULE(_spinmotor, m) {
        "spinmotor.Error for an unknown option, naming the valid ones. A string argument outside its "
        "table raises spinmotor.Error listing the valid names.")
           .c_str());
+  m.def(
+      "set_memory_limit",
+      [](const py::object& size) {
+        if (size.is_none()) return spinmotor::set_memory_limit(0);
+        if (py::isinstance<py::str>(size))
+          return spinmotor::set_memory_limit(spinmotor::parse_memory_size(size.cast<std::string>()));
+        const long long bytes = size.cast<long long>();
+        if (bytes <= 0)
+          throw spinmotor::Error("set_memory_limit: the size must be positive, got " + std::to_string(bytes));
+        spinmotor::set_memory_limit(static_cast<std::uint64_t>(bytes));
+      },
+      py::arg("size"),
+      "set_memory_limit(size) -> None. Work whose memory can be estimated before it starts (a Cholesky "
+      "factor after its symbolic analysis, a harmonic cage grid, dense cage weights) raises spinmotor.Error "
+      "at once, naming the estimate and the limit, when the estimate exceeds it; the CLI's --max-memory. "
+      "Input: size, bytes (int > 0) or a str such as '512M' or '8G' (powers of 1024); None: back to the "
+      "default, the memory available when first needed. Errors: spinmotor.Error for a malformed size.");
+  m.def(
+      "memory_limit", [] { return spinmotor::memory_limit(); },
+      "memory_limit() -> int: the current limit in bytes (set_memory_limit's, else the available memory). "
+      "Errors: none.");
 }

@@ -135,3 +135,26 @@ def test_deformer_errors(capsule):
     V2[3, 1] = np.inf
     with pytest.raises(sm.Error, match="row 3, column 1 is not finite"):
         sm.ArapDeformer(V2, F, handles=handles)
+
+
+def test_memory_limit_refuses_a_cage_grid_at_once():
+    """set_memory_limit: a harmonic cage grid that cannot fit raises spinmotor.Error naming the estimate
+    and the limit before any work (grid 512 ran for minutes before); None restores the default."""
+    V, F = sm.torus(1.0, 0.4, 24, 12)
+    cage_V, cage_F = sm.icosphere(1, radius=2.0)
+    default = sm.memory_limit()
+    try:
+        sm.set_memory_limit("4G")
+        assert sm.memory_limit() == 4 << 30
+        with pytest.raises(sm.Error, match=r"grid 512 \(.* nodes\) needs an estimated .* TB of memory; "
+                                           r"the limit is 4\.0 GB"):
+            sm.CageDeformer(V, F, cage=(cage_V, cage_F), coordinates="harmonic", grid=512)
+        sm.set_memory_limit(64 << 20)
+        assert sm.CageDeformer(V, F, cage=(cage_V, cage_F), coordinates="harmonic", grid=16) is not None
+        with pytest.raises(sm.Error, match="memory size '12X'"):
+            sm.set_memory_limit("12X")
+        with pytest.raises(sm.Error, match="must be positive"):
+            sm.set_memory_limit(0)
+    finally:
+        sm.set_memory_limit(None)
+    assert sm.memory_limit() == default

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/memory_budget.hpp"
 #include "spinmotor/linalg/cholesky_solver.hpp"
 #include "spinmotor/mesh/mass_matrix.hpp"
 #include "spinmotor/mesh/mesh.hpp"
@@ -59,13 +60,6 @@ PencilSolution solve_pencil(const Eigen::SparseMatrix<double>& K, const Eigen::S
                             int count, const DiracSpectrumOptions& options, LLT::Ordering ordering,
                             const char* who) {
   const Eigen::Index Nr = K.rows();
-  LLT chol({.ordering = ordering, .supernodal = true});
-  chol.analyze(K);
-  chol.factorize(K);
-
-  using Op = Spectra::SparseSymMatProd<double, Eigen::Lower>;
-  Op op(G);
-  NormalMatrixCholesky bop(chol);
   // Every eigenvalue is (at least) 4-fold — quaternionic — and single-vector Lanczos finds the copies
   // of an exactly multiple eigenvalue only through rounding and restarts: ask for two multiplets more
   // than wanted so that a late copy is not crowded out by the next eigenvalue.
@@ -74,6 +68,18 @@ PencilSolution solve_pencil(const Eigen::SparseMatrix<double>& K, const Eigen::S
                       ? std::min<int>(options.ncv, static_cast<int>(Nr))
                       : static_cast<int>(std::min<Eigen::Index>(Nr, std::max(2 * nev + 1, nev + 40)));
   if (ncv <= nev) throw Error(std::string(who) + ": ncv must exceed count + 8");
+  // The dense blocks, before any work: the Lanczos basis (Nr × ncv) and the quaternionic completion's
+  // S, KS, GS (Nr × 4 nev each). The factor is checked by the solver after its symbolic analysis.
+  require_memory(mul_sat(static_cast<std::uint64_t>(Nr), static_cast<std::uint64_t>(ncv + 12 * nev) * 8),
+                 std::string(who) + ": the eigenvector blocks (" + std::to_string(Nr) + " rows, " +
+                     std::to_string(ncv + 12 * nev) + " columns)");
+  LLT chol({.ordering = ordering, .supernodal = true});
+  chol.analyze(K);
+  chol.factorize(K);
+
+  using Op = Spectra::SparseSymMatProd<double, Eigen::Lower>;
+  Op op(G);
+  NormalMatrixCholesky bop(chol);
   Spectra::SymGEigsSolver<Op, NormalMatrixCholesky, Spectra::GEigsMode::Cholesky> eigs(op, bop, nev, ncv);
   eigs.init();
   eigs.compute(Spectra::SortRule::LargestMagn, options.max_iterations, options.tolerance,

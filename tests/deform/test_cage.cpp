@@ -4,9 +4,13 @@
 // the stated grid interpolation bound; rigid motions; cage and containment errors.
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <cmath>
+#include <string>
 
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/memory_budget.hpp"
+#include "spinmotor/core/stopwatch.hpp"
 #include "spinmotor/deform/cage_coordinates.hpp"
 #include "spinmotor/deform/cage_deformer.hpp"
 #include "spinmotor/ga.hpp"
@@ -156,4 +160,29 @@ TEST_CASE("cage deformer: a mesh vertex outside the cage is named", "[cage]") {
                     Catch::Contains("mesh vertex 123"));
   CHECK_THROWS_WITH(CageDeformer::bind(inner_mesh(), cage, {CageDeformer::Coordinates::Harmonic, 2}),
                     Catch::Contains("grid 2"));
+}
+
+TEST_CASE("HC: a grid that cannot fit is refused at once with the estimate and the limit", "[cage][memory]") {
+  // Grid 512 on a 42-vertex cage: 138M grid nodes, ~60M unknowns with 42 right-hand sides each. It used
+  // to rasterize and order for minutes before CHOLMOD refused; now the estimate refuses it before any
+  // per-node allocation. The time bound is the point of the check (the work itself takes minutes).
+  struct Reset {
+    ~Reset() { set_memory_limit(0); }
+  } reset;
+  set_memory_limit(8ull << 30);
+  const Mesh cage = cage_mesh(), inner = inner_mesh();
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    (void)harmonic_cage_coordinates(cage.V, cage.F, inner.V, 512);
+    FAIL("no refusal");
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    INFO(m);
+    CHECK(m.find("harmonic_cage_coordinates: grid 512 (") != std::string::npos);
+    CHECK(m.find("nodes) needs an estimated ") != std::string::npos);
+    CHECK(m.find(" TB of memory; the limit is 8.0 GB") != std::string::npos);  // the factor alone: ~2 TB
+  }
+  CHECK(ms_since(t0) < 1000);
+  // A grid that fits under the same limit runs (grid 16: a few MB).
+  CHECK(harmonic_cage_coordinates(cage.V, cage.F, inner.V, 16).rows() == inner.V.rows());
 }

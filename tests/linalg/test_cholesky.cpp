@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/memory_budget.hpp"
 #include "spinmotor/linalg/cholesky_solver.hpp"
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/mesh/generators.hpp"
@@ -183,4 +184,39 @@ TEST_CASE("Cholesky: complex misuse and indefinite matrices are reported", "[sol
   }
   N.coeffRef(1, 1) = cd(std::nan(""), 0.0);
   CHECK_THROWS_WITH(c.factorize(N), Catch::Contains("not finite"));
+}
+
+TEST_CASE("Cholesky: a factor over the memory limit is refused after the symbolic analysis, naming its size",
+          "[solvers][memory]") {
+  struct Reset {
+    ~Reset() { set_memory_limit(0); }
+  } reset;
+  const Mesh s = icosphere(4);  // 2,562 vertices
+  const Eigen::SparseMatrix<double> A =
+      Eigen::SparseMatrix<double>(cotangent_laplacian(s.V, s.F) + 0.5 * mass_matrix(s.V, s.F));
+  CholeskySolver fits;
+  fits.compute(A);
+  // The estimate: a value and an index per factor nonzero, 64 bytes per column.
+  const double bytes = fits.factor_nonzeros() * 16 + 64.0 * A.rows();
+  set_memory_limit(static_cast<std::uint64_t>(bytes) + 1);
+  CholeskySolver just;
+  CHECK_NOTHROW(just.compute(A));
+  set_memory_limit(static_cast<std::uint64_t>(bytes / 2));
+  CholeskySolver over;
+  try {
+    over.compute(A);
+    FAIL("no refusal");
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    INFO(m);
+    CHECK(e.kind() == Error::Kind::BadInput);
+    CHECK(m.find("the Cholesky factor of a 2562x2562 matrix (") != std::string::npos);
+    CHECK(m.find("needs an estimated " + format_bytes(static_cast<std::uint64_t>(bytes))) !=
+          std::string::npos);
+    CHECK(m.find("the limit is " + format_bytes(static_cast<std::uint64_t>(bytes / 2))) != std::string::npos);
+  }
+  // Nothing is left half-analyzed: solving is refused, and a new compute() under the default works.
+  CHECK_THROWS_AS(over.solve(Eigen::VectorXd::Ones(A.rows())), Error);
+  set_memory_limit(0);
+  CHECK_NOTHROW(over.compute(A));
 }

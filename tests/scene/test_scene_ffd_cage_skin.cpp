@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +13,7 @@
 #include <sstream>
 
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/stopwatch.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/scene/run.hpp"
@@ -42,11 +44,12 @@ struct CliResult {
   std::string err;
 };
 
-CliResult deform(const fs::path& dir, const json& doc) {
+/// `spinmotor deform DIR/scene.json EXTRA` (EXTRA: more arguments, already quoted for the shell).
+CliResult deform(const fs::path& dir, const json& doc, const std::string& extra = "") {
   std::ofstream(dir / "scene.json") << doc.dump(1);
   const fs::path err = dir / "stderr.txt";
-  const std::string cmd = std::string(SPINMOTOR_CLI) + " deform '" + (dir / "scene.json").string() +
-                          "' > /dev/null 2> '" + err.string() + "'";
+  const std::string cmd = std::string(SPINMOTOR_CLI) + " deform '" + (dir / "scene.json").string() + "' " +
+                          extra + " > /dev/null 2> '" + err.string() + "'";
   const int status = std::system(cmd.c_str());
   CliResult r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -286,4 +289,38 @@ TEST_CASE("skin scene with mush: Delta Mush and DDM of 0 iterations are LBS, mor
                           !scene::run_scene(scene::parse_scene(doc, ".", "bad.json")).frames.empty(),
                       Catch::Contains("/deformer"));
   }
+}
+
+TEST_CASE("cage scene: --max-memory refuses a grid that cannot fit at once, exit 2, no output",
+          "[scene][cage][memory]") {
+  TempDir t;
+  Mesh cage = icosphere(1, 2.0);
+  cage.UV.resize(0, 2);
+  cage.FUV.resize(0, 3);
+  write_mesh(t.path / "cage.obj", cage);
+  json doc = cage_scene();
+  doc["deformer"]["grid"] = 512;
+  const auto t0 = std::chrono::steady_clock::now();
+  const CliResult r = deform(t.path, doc, "--max-memory 4G");
+  const double ms = ms_since(t0);
+  INFO(r.err);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("harmonic_cage_coordinates: grid 512 (") != std::string::npos);
+  CHECK(r.err.find(" TB of memory; the limit is 4.0 GB (set by --max-memory") != std::string::npos);
+  CHECK(ms < 1000);  // the refusal comes before the work (minutes), not after it
+  CHECK_FALSE(fs::exists(t.path / "out"));
+  // The option goes before the command too; the grid-24 scene (a few MB) fits in 64 MB, not in 1 MB.
+  doc["deformer"]["grid"] = 24;
+  std::ofstream(t.path / "scene.json") << doc.dump(1);
+  const std::string cli = std::string(SPINMOTOR_CLI), scene = "'" + (t.path / "scene.json").string() + "'";
+  CHECK(std::system((cli + " --max-memory 64M deform " + scene + " > /dev/null 2>&1").c_str()) == 0);
+  CHECK(fs::exists(t.path / "out/cage.obj"));
+  fs::remove_all(t.path / "out");
+  const CliResult small = deform(t.path, doc, "--max-memory 1M");
+  CHECK(small.code == 2);
+  CHECK(small.err.find("the limit is 1.0 MB") != std::string::npos);
+  CHECK_FALSE(fs::exists(t.path / "out"));
+  const CliResult bad = deform(t.path, doc, "--max-memory 12X");
+  CHECK(bad.code == 2);
+  CHECK(bad.err.find("memory size '12X'") != std::string::npos);
 }
