@@ -76,7 +76,7 @@ class SceneRunner {
 struct RunResult {
   double bind_ms = 0;
   std::vector<FrameResult> frames;
-  std::vector<std::string> warnings;  ///< notes for the user (printed by `deform`)
+  std::vector<std::string> warnings;  ///< notes for the user
 };
 
 /// Called after the bind (frame = 0) and after each frame (frame = 1..frames) with the seconds since
@@ -98,7 +98,7 @@ std::filesystem::path output_path(const Scene& scene, const std::filesystem::pat
 /// this object unless keep() was called (an exception unwinding past it, a failed frame), so an error
 /// never leaves part of a run on disk. (Frames it overwrote are removed too: the previous run's files
 /// at those paths are gone either way.) Holds no per-frame state: the files of a frame are recomputed
-/// from output_path, so a run of any length costs the same memory.
+/// from output_path, so a run of any length costs the same memory. The scene must outlive the writer.
 class FrameWriter {
  public:
   explicit FrameWriter(const Scene& scene, std::optional<std::filesystem::path> out_dir = std::nullopt);
