@@ -4,6 +4,7 @@
 
 #include "command.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/interrupt.hpp"
 #include "spinmotor/core/memory_budget.hpp"
 
 namespace spinmotor::cli {
@@ -33,6 +34,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     const int rc = app.exit(e);
     return rc == 0 ? 0 : 2;
+  } catch (const cli::Interrupted& e) {
+    std::cerr << "spinmotor: interrupted by " << signal_name(e.signal()) << ": " << e.what() << '\n';
+    return interrupted_exit_code(e.signal());
   } catch (const Error& e) {
     std::cerr << "spinmotor: error: " << e.what() << '\n';
     return e.exit_code();

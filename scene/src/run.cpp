@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <optional>
 #include <set>
+#include <stdexcept>
 
 #include "spinmotor/core/atomic_file.hpp"
 #include "spinmotor/core/error.hpp"
@@ -23,17 +24,32 @@ namespace spinmotor::scene {
 
 using nlohmann::json;
 
-RunResult run_scene(const Scene& scene, const RunProgress& progress) {
+struct SceneRunner::Impl {
+  const Scene& scene;
+  std::unique_ptr<SceneDeformer> d;
+  double bind_ms = 0;
+  json bind_extra;  // the deformer's bind figures, merged into every frame's metrics
+  // Conformal snap (Crane et al. 2011 §7.2): bound once on the rest mesh (Laplacian factor, symbolic
+  // analysis), then one snap per frame.
+  // Shape mode (Le Folgoc 2019 extrusion toward the edit's curvature) binds nothing: each frame runs
+  // its own extrusion from the rest mesh.
+  // Pinned mode (the pose-keeping cleanup): bound once for the rest mesh and the pinned handles' vertices.
+  std::optional<ConformalSnap> snapper;
+  std::optional<PinnedCleanup> cleaner;
+  std::size_t next = 0;  // the frame next() computes
+
+  explicit Impl(const Scene& s);
+  FrameResult frame(std::size_t f);
+};
+
+SceneRunner::Impl::Impl(const Scene& s) : scene(s) {
   using clock = std::chrono::steady_clock;
-  RunResult r;
   if (scene.ik && scene.deformer_type != "spline")
     throw scene.error("/ik", "the `ik` block drives the spline deformer; this scene's deformer is '" +
                                  scene.deformer_type + "'");
   const auto t0 = clock::now();
-  std::unique_ptr<SceneDeformer> d = bind_deformer(scene);
-  r.bind_ms = std::chrono::duration<double, std::milli>(clock::now() - t0).count();
-  auto seconds = [&] { return std::chrono::duration<double>(clock::now() - t0).count(); };
-
+  d = bind_deformer(scene);
+  bind_ms = std::chrono::duration<double, std::milli>(clock::now() - t0).count();
   // Every pose entry must name a control of this deformer.
   const std::vector<std::string> controls = d->control_names();
   const std::set<std::string> known(controls.begin(), controls.end());
@@ -49,14 +65,7 @@ RunResult run_scene(const Scene& scene, const RunProgress& progress) {
                               ")");
       }
 
-  const json bind_extra = d->bind_report();
-  // Conformal snap (Crane et al. 2011 §7.2): bound once on the rest mesh (Laplacian factor, symbolic
-  // analysis), then one snap per frame.
-  // Shape mode (Le Folgoc 2019 extrusion toward the edit's curvature) binds nothing: each frame runs
-  // its own extrusion from the rest mesh.
-  // Pinned mode (the pose-keeping cleanup): bound once for the rest mesh and the pinned handles' vertices.
-  std::optional<ConformalSnap> snapper;
-  std::optional<PinnedCleanup> cleaner;
+  bind_extra = d->bind_report();
   if (scene.snap.enabled && scene.snap.mode == SnapMode::Pinned) {
     std::vector<int> pins;
     for (int h : scene.snap.pin_handles)
@@ -93,131 +102,159 @@ RunResult run_scene(const Scene& scene, const RunProgress& progress) {
       throw Error(scene.name() + ": /snap: " + e.what(), e.kind());
     }
   }
-  if (progress) progress(0, scene.frames.size(), seconds());
-  for (std::size_t f = 0; f < scene.frames.size(); ++f) {
-    FrameResult fr;
-    const auto t1 = clock::now();
-    d->pose(scene.frames[f], fr.V);
-    fr.pose_ms = std::chrono::duration<double, std::milli>(clock::now() - t1).count();
-    DeformationMetrics m;
+}
+
+FrameResult SceneRunner::Impl::frame(std::size_t f) {
+  using clock = std::chrono::steady_clock;
+  FrameResult fr;
+  const auto t1 = clock::now();
+  d->pose(scene.frames[f], fr.V);
+  fr.pose_ms = std::chrono::duration<double, std::milli>(clock::now() - t1).count();
+  DeformationMetrics m;
+  try {
+    m = compute_metrics(scene.mesh, fr.V);
+  } catch (const Error& e) {
+    throw Error(scene.name() + ": metrics: " + e.what(), e.kind());
+  }
+  json j = {{"scene", scene.file.string()},
+            {"mesh", scene.mesh_source},
+            {"deformer", scene.deformer_type},
+            {"vertices", scene.mesh.V.rows()},
+            {"faces", scene.mesh.F.rows()},
+            {"bind_ms", bind_ms},
+            {"pose_ms", fr.pose_ms},
+            {"q_mean", detail::finite_or_null(m.q_mean)},
+            {"q_max", detail::finite_or_null(m.q_max)},
+            {"area_distortion", detail::finite_or_null(m.area_distortion)}};
+  if (scene.animated) j["frame"] = scene.first_frame + static_cast<int>(f);
+  if (scene.frames[f].time) j["time"] = *scene.frames[f].time;
+  const json extra = d->report(scene.frames[f], fr.V);  // named: items() of a temporary would dangle
+  for (const auto& [k, v] : extra.items()) j[k] = v;
+  for (const auto& [k, v] : bind_extra.items()) j[k] = v;
+  j["metrics"] = to_json(m);
+  if (cleaner) {
+    const auto t2 = clock::now();
+    Eigen::MatrixXd V_clean;
+    PinnedCleanupResult pr;
+    DeformationMetrics ms;
     try {
-      m = compute_metrics(scene.mesh, fr.V);
+      pr = cleaner->cleanup(fr.V, V_clean);
+      ms = compute_metrics(scene.mesh, V_clean);
     } catch (const Error& e) {
-      throw Error(scene.name() + ": metrics: " + e.what(), e.kind());
+      throw Error(scene.name() + ": snap (pinned mode): " + e.what(), e.kind());
     }
-    json j = {{"scene", scene.file.string()},
-              {"mesh", scene.mesh_source},
-              {"deformer", scene.deformer_type},
-              {"vertices", scene.mesh.V.rows()},
-              {"faces", scene.mesh.F.rows()},
-              {"bind_ms", r.bind_ms},
-              {"pose_ms", fr.pose_ms},
-              {"q_mean", detail::finite_or_null(m.q_mean)},
-              {"q_max", detail::finite_or_null(m.q_max)},
-              {"area_distortion", detail::finite_or_null(m.area_distortion)}};
-    if (scene.animated) j["frame"] = scene.first_frame + static_cast<int>(f);
-    if (scene.frames[f].time) j["time"] = *scene.frames[f].time;
-    const json extra = d->report(scene.frames[f], fr.V);  // named: items() of a temporary would dangle
-    for (const auto& [k, v] : extra.items()) j[k] = v;
-    for (const auto& [k, v] : bind_extra.items()) j[k] = v;
-    j["metrics"] = to_json(m);
-    if (cleaner) {
-      const auto t2 = clock::now();
-      Eigen::MatrixXd V_clean;
-      PinnedCleanupResult pr;
-      DeformationMetrics ms;
-      try {
-        pr = cleaner->cleanup(fr.V, V_clean);
-        ms = compute_metrics(scene.mesh, V_clean);
-      } catch (const Error& e) {
-        throw Error(scene.name() + ": snap (pinned mode): " + e.what(), e.kind());
-      }
-      const VertexDistances dist = vertex_distances(fr.V, V_clean, Alignment::None);
-      const bool first = f == 0;  // the bind is paid by the first frame
-      j["snap"] = {{"mode", "pinned"},
-                   {"pins", cleaner->pins().size()},
-                   {"keep", option_name(pr.kept)},
-                   {"pose_weight", scene.snap.pose_weight.value_or(
-                                       scene.snap.pin_weights ? RigCleanupOptions{}.pose_weight : 0.0)},
-                   {"q_mean", detail::finite_or_null(ms.q_mean)},
-                   {"q_max", detail::finite_or_null(ms.q_max)},
-                   {"area_distortion", detail::finite_or_null(ms.area_distortion)},
-                   {"measure_ratio", pr.measure_ratio()},  // kept volume or area / rest
-                   {"edit_measure_ratio", pr.rest_measure != 0 ? pr.edit_measure / pr.rest_measure : 1.0},
-                   {"pin_error", pr.pin_error},
-                   {"iterations", pr.iterations},
-                   {"converged", pr.converged},
-                   {"rms_edit_to_snap", dist.rms},  // relative to the edit's bounding-box diagonal
-                   {"max_edit_to_snap", dist.max},
-                   {"bind_ms", first ? cleaner->bind_ms() : 0.0},
-                   {"total_ms", (first ? cleaner->bind_ms() : 0.0) +
-                                    std::chrono::duration<double, std::milli>(clock::now() - t2).count()},
-                   {"metrics", to_json(ms)}};
-      fr.V_unsnapped = std::move(fr.V);
-      fr.V = std::move(V_clean);
+    const VertexDistances dist = vertex_distances(fr.V, V_clean, Alignment::None);
+    const bool first = f == 0;  // the bind is paid by the first frame
+    j["snap"] = {{"mode", "pinned"},
+                 {"pins", cleaner->pins().size()},
+                 {"keep", option_name(pr.kept)},
+                 {"pose_weight", scene.snap.pose_weight.value_or(
+                                     scene.snap.pin_weights ? RigCleanupOptions{}.pose_weight : 0.0)},
+                 {"q_mean", detail::finite_or_null(ms.q_mean)},
+                 {"q_max", detail::finite_or_null(ms.q_max)},
+                 {"area_distortion", detail::finite_or_null(ms.area_distortion)},
+                 {"measure_ratio", pr.measure_ratio()},  // kept volume or area / rest
+                 {"edit_measure_ratio", pr.rest_measure != 0 ? pr.edit_measure / pr.rest_measure : 1.0},
+                 {"pin_error", pr.pin_error},
+                 {"iterations", pr.iterations},
+                 {"converged", pr.converged},
+                 {"rms_edit_to_snap", dist.rms},  // relative to the edit's bounding-box diagonal
+                 {"max_edit_to_snap", dist.max},
+                 {"bind_ms", first ? cleaner->bind_ms() : 0.0},
+                 {"total_ms", (first ? cleaner->bind_ms() : 0.0) +
+                                  std::chrono::duration<double, std::milli>(clock::now() - t2).count()},
+                 {"metrics", to_json(ms)}};
+    fr.V_unsnapped = std::move(fr.V);
+    fr.V = std::move(V_clean);
+  }
+  if (scene.snap.enabled && scene.snap.mode == SnapMode::Shape) {
+    const auto t2 = clock::now();
+    CurvatureFlow flow;
+    DeformationMetrics ms;
+    Eigen::MatrixXd V_snap;
+    try {
+      CurvatureSpinOptions co;
+      co.alpha = 0.05;  // the extrusion default (curvature_spin_flow.hpp)
+      co.area_epsilon = scene.snap.area_constraint;
+      flow = curvature_extrusion(scene.mesh.V, scene.mesh.F, fr.V, scene.snap.steps, co);
+      V_snap = umeyama_fit(flow.V, fr.V).apply(flow.V);
+      ms = compute_metrics(scene.mesh, V_snap);
+    } catch (const Error& e) {
+      throw Error(scene.name() + ": snap (shape mode): " + e.what(), e.kind());
     }
-    if (scene.snap.enabled && scene.snap.mode == SnapMode::Shape) {
-      const auto t2 = clock::now();
-      CurvatureFlow flow;
-      DeformationMetrics ms;
-      Eigen::MatrixXd V_snap;
-      try {
-        CurvatureSpinOptions co;
-        co.alpha = 0.05;  // the extrusion default (curvature_spin_flow.hpp)
-        co.area_epsilon = scene.snap.area_constraint;
-        flow = curvature_extrusion(scene.mesh.V, scene.mesh.F, fr.V, scene.snap.steps, co);
-        V_snap = umeyama_fit(flow.V, fr.V).apply(flow.V);
-        ms = compute_metrics(scene.mesh, V_snap);
-      } catch (const Error& e) {
-        throw Error(scene.name() + ": snap (shape mode): " + e.what(), e.kind());
-      }
-      const VertexDistances dist = vertex_distances(fr.V, V_snap, Alignment::None);
-      j["snap"] = {{"mode", "shape"},
-                   {"steps", scene.snap.steps},
-                   {"area_constraint", scene.snap.area_constraint},
-                   {"q_mean", detail::finite_or_null(ms.q_mean)},
-                   {"q_max", detail::finite_or_null(ms.q_max)},
-                   {"area_distortion", detail::finite_or_null(ms.area_distortion)},
-                   {"rms_edit_to_snap", dist.rms},
-                   {"max_edit_to_snap", dist.max},
-                   {"closure", flow.closure},
-                   {"total_ms", std::chrono::duration<double, std::milli>(clock::now() - t2).count()},
-                   {"metrics", to_json(ms)}};
-      fr.V_unsnapped = std::move(fr.V);
-      fr.V = std::move(V_snap);
+    const VertexDistances dist = vertex_distances(fr.V, V_snap, Alignment::None);
+    j["snap"] = {{"mode", "shape"},
+                 {"steps", scene.snap.steps},
+                 {"area_constraint", scene.snap.area_constraint},
+                 {"q_mean", detail::finite_or_null(ms.q_mean)},
+                 {"q_max", detail::finite_or_null(ms.q_max)},
+                 {"area_distortion", detail::finite_or_null(ms.area_distortion)},
+                 {"rms_edit_to_snap", dist.rms},
+                 {"max_edit_to_snap", dist.max},
+                 {"closure", flow.closure},
+                 {"total_ms", std::chrono::duration<double, std::milli>(clock::now() - t2).count()},
+                 {"metrics", to_json(ms)}};
+    fr.V_unsnapped = std::move(fr.V);
+    fr.V = std::move(V_snap);
+  }
+  if (snapper) {
+    ConformalSnapResult sr;
+    DeformationMetrics ms;
+    try {
+      sr = snapper->snap(fr.V);
+      ms = compute_metrics(scene.mesh, sr.V);
+    } catch (const Error& e) {
+      throw Error(scene.name() + ": snap: " + e.what(), e.kind());
     }
-    if (snapper) {
-      ConformalSnapResult sr;
-      DeformationMetrics ms;
-      try {
-        sr = snapper->snap(fr.V);
-        ms = compute_metrics(scene.mesh, sr.V);
-      } catch (const Error& e) {
-        throw Error(scene.name() + ": snap: " + e.what(), e.kind());
-      }
-      const VertexDistances dist = vertex_distances(fr.V, sr.V, Alignment::None);
-      const bool first = f == 0;  // the bind is paid by the first frame
-      j["snap"] = {{"mode", option_name(SnapMode::Free)},
-                   {"tradeoff", scene.snap.tradeoff},
-                   {"smooth_rho", scene.snap.smooth_rho},
-                   {"q_mean", detail::finite_or_null(ms.q_mean)},
-                   {"q_max", detail::finite_or_null(ms.q_max)},
-                   {"area_distortion", detail::finite_or_null(ms.area_distortion)},
-                   {"rms_edit_to_snap", dist.rms},  // relative to the edit's bounding-box diagonal
-                   {"max_edit_to_snap", dist.max},
-                   {"eigenvalue", sr.eigenvalue},
-                   {"bind_ms", (first ? snapper->bind_ms() : 0.0) + sr.timings.bind},
-                   {"similarity_fit_ms", sr.timings.similarity_fit},
-                   {"eigen_ms", sr.timings.eigen},
-                   {"poisson_ms", sr.timings.poisson},
-                   {"total_ms", (first ? snapper->bind_ms() : 0.0) + sr.timings.total()},
-                   {"metrics", to_json(ms)}};
-      fr.V_unsnapped = std::move(fr.V);
-      fr.V = std::move(sr.V);
-    }
-    fr.metrics = std::move(j);
-    r.frames.push_back(std::move(fr));
-    if (progress) progress(f + 1, scene.frames.size(), seconds());
+    const VertexDistances dist = vertex_distances(fr.V, sr.V, Alignment::None);
+    const bool first = f == 0;  // the bind is paid by the first frame
+    j["snap"] = {{"mode", option_name(SnapMode::Free)},
+                 {"tradeoff", scene.snap.tradeoff},
+                 {"smooth_rho", scene.snap.smooth_rho},
+                 {"q_mean", detail::finite_or_null(ms.q_mean)},
+                 {"q_max", detail::finite_or_null(ms.q_max)},
+                 {"area_distortion", detail::finite_or_null(ms.area_distortion)},
+                 {"rms_edit_to_snap", dist.rms},  // relative to the edit's bounding-box diagonal
+                 {"max_edit_to_snap", dist.max},
+                 {"eigenvalue", sr.eigenvalue},
+                 {"bind_ms", (first ? snapper->bind_ms() : 0.0) + sr.timings.bind},
+                 {"similarity_fit_ms", sr.timings.similarity_fit},
+                 {"eigen_ms", sr.timings.eigen},
+                 {"poisson_ms", sr.timings.poisson},
+                 {"total_ms", (first ? snapper->bind_ms() : 0.0) + sr.timings.total()},
+                 {"metrics", to_json(ms)}};
+    fr.V_unsnapped = std::move(fr.V);
+    fr.V = std::move(sr.V);
+  }
+  fr.metrics = std::move(j);
+  return fr;
+}
+
+SceneRunner::SceneRunner(const Scene& scene) : impl_(std::make_unique<Impl>(scene)) {}
+SceneRunner::~SceneRunner() = default;
+SceneRunner::SceneRunner(SceneRunner&&) noexcept = default;
+SceneRunner& SceneRunner::operator=(SceneRunner&&) noexcept = default;
+double SceneRunner::bind_ms() const { return impl_->bind_ms; }
+std::size_t SceneRunner::frames() const { return impl_->scene.frames.size(); }
+std::size_t SceneRunner::frame() const { return impl_->next; }
+
+FrameResult SceneRunner::next() {
+  if (done()) throw std::logic_error("SceneRunner::next: every frame has been computed");
+  FrameResult fr = impl_->frame(impl_->next);
+  ++impl_->next;  // only once the frame succeeded
+  return fr;
+}
+
+RunResult run_scene(const Scene& scene, const RunProgress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  SceneRunner run(scene);
+  RunResult r;
+  r.bind_ms = run.bind_ms();
+  if (progress) progress(0, run.frames(), seconds());
+  while (!run.done()) {
+    r.frames.push_back(run.next());
+    if (progress) progress(r.frames.size(), run.frames(), seconds());
   }
   return r;
 }
@@ -275,36 +312,60 @@ void write_q_colors_ply(const std::filesystem::path& path, const Mesh& rest, con
   out.commit();
 }
 
-std::vector<std::filesystem::path> write_outputs(const Scene& scene, const RunResult& result,
-                                                 const std::optional<std::filesystem::path>& out_dir) {
-  std::vector<std::filesystem::path> written;
+FrameWriter::FrameWriter(const Scene& scene, std::optional<std::filesystem::path> out_dir)
+    : scene_(scene), out_dir_(std::move(out_dir)) {}
+
+FrameWriter::~FrameWriter() {
+  if (keep_) return;
+  std::error_code ec;  // never throws from a destructor; a file may already be gone
+  for (std::size_t f = 0; f < written_; ++f)
+    for (const auto& p : paths(f)) std::filesystem::remove(p, ec);
+}
+
+std::vector<std::filesystem::path> FrameWriter::paths(std::size_t frame) const {
+  const int f = static_cast<int>(frame);
+  std::vector<std::filesystem::path> p;
+  for (const auto& spec : {scene_.output.mesh, scene_.output.metrics, scene_.output.colors})
+    if (spec) p.push_back(output_path(scene_, *spec, f, out_dir_));
+  return p;
+}
+
+void FrameWriter::write(std::size_t frame, const FrameResult& fr) {
+  if (frame != written_) throw std::logic_error("FrameWriter::write: frames are written in order");
+  const std::vector<std::filesystem::path> p = paths(frame);
+  std::size_t done = 0;  // files of this frame on disk (same order as paths())
   try {
-    for (std::size_t f = 0; f < result.frames.size(); ++f) {
-      const FrameResult& fr = result.frames[f];
-      const int fi = static_cast<int>(f);
-      if (scene.output.mesh) {
-        Mesh m = scene.mesh;  // keeps F, UV, FUV: only the positions change
-        m.V = fr.V;
-        const auto p = output_path(scene, *scene.output.mesh, fi, out_dir);
-        write_mesh(p, m);
-        written.push_back(p);
-      }
-      if (scene.output.metrics) {
-        const auto p = output_path(scene, *scene.output.metrics, fi, out_dir);
-        write_text_atomic(p, fr.metrics.dump(2) + "\n");
-        written.push_back(p);
-      }
-      if (scene.output.colors) {
-        const auto p = output_path(scene, *scene.output.colors, fi, out_dir);
-        write_q_colors_ply(p, scene.mesh, fr.V);
-        written.push_back(p);
-      }
+    if (scene_.output.mesh) {
+      Mesh m = scene_.mesh;  // keeps F, UV, FUV: only the positions change
+      m.V = fr.V;
+      write_mesh(p[done], m);
+      ++done;
+    }
+    if (scene_.output.metrics) {
+      write_text_atomic(p[done], fr.metrics.dump(2) + "\n");
+      ++done;
+    }
+    if (scene_.output.colors) {
+      write_q_colors_ply(p[done], scene_.mesh, fr.V);
+      ++done;
     }
   } catch (...) {
     std::error_code ec;
-    for (const auto& p : written) std::filesystem::remove(p, ec);
+    for (std::size_t k = 0; k < done; ++k) std::filesystem::remove(p[k], ec);
     throw;
   }
+  ++written_;
+}
+
+std::vector<std::filesystem::path> write_outputs(const Scene& scene, const RunResult& result,
+                                                 const std::optional<std::filesystem::path>& out_dir) {
+  FrameWriter out(scene, out_dir);
+  std::vector<std::filesystem::path> written;
+  for (std::size_t f = 0; f < result.frames.size(); ++f) {
+    out.write(f, result.frames[f]);
+    for (auto& p : out.paths(f)) written.push_back(std::move(p));
+  }
+  out.keep();
   return written;
 }
 

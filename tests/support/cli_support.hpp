@@ -1,15 +1,22 @@
 #pragma once
 // Shared by the CLI tests: run the built `spinmotor` (SPINMOTOR_CLI) with stdout captured and stderr
-// read back from a file, and a per-process scratch directory removed at the end of the test case.
+// read back from a file, start a tool in the background (to signal it), and a per-process scratch
+// directory removed at the end of the test case.
+#include <fcntl.h>
+#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
+#include <cerrno>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
+
+extern char** environ;
 
 namespace spinmotor_test {
 
@@ -43,6 +50,43 @@ inline Run run_cli(const std::filesystem::path& dir, const std::string& args) {
   std::stringstream err;
   err << in.rdbuf();
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out, err.str()};
+}
+
+/// Starts `argv` (argv[0]: the program's path) in the background with stdout and stderr written to
+/// files, and without DISPLAY (the viewer then renders offscreen); returns its pid. posix_spawn, not a
+/// shell: the pid is the tool's own, so a test can signal it.
+inline pid_t spawn(const std::vector<std::string>& argv, const std::filesystem::path& out,
+                   const std::filesystem::path& err) {
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  std::vector<char*> env;
+  for (char** e = environ; *e; ++e)
+    if (std::string(*e).rfind("DISPLAY=", 0) != 0) env.push_back(*e);
+  env.push_back(nullptr);
+  posix_spawn_file_actions_t io;
+  posix_spawn_file_actions_init(&io);
+  posix_spawn_file_actions_addopen(&io, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&io, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = -1;
+  const int rc = posix_spawn(&pid, args[0], &io, nullptr, args.data(), env.data());
+  posix_spawn_file_actions_destroy(&io);
+  REQUIRE(rc == 0);
+  return pid;
+}
+
+/// Waits for `pid`: its exit code, or −signal if a signal killed it.
+inline int wait_exit(pid_t pid) {
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return -1000;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : WIFSIGNALED(status) ? -WTERMSIG(status) : -1000;
+}
+
+/// True once `pid` has exited (without reaping it: wait_exit still gives its status).
+inline bool has_exited(pid_t pid) {
+  siginfo_t info{};
+  return waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT) == 0 && info.si_pid == pid;
 }
 
 /// A scratch directory named after the process (ctest runs every test case in its own process).

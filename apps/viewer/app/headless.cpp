@@ -9,6 +9,7 @@
 
 #include "app.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/interrupt.hpp"
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
 #include "spinmotor/render/framebuffer.hpp"
 #include "spinmotor/render/offscreen_context.hpp"
@@ -24,10 +25,34 @@ namespace spinmotor::viewer::app {
 
 namespace {
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
+/// Per-frame timings of a run of any length in bounded memory, for the frame timer's medians: every
+/// frame while there are at most kCapacity, then every 2nd, 4th, ... frame (the samples are thinned to
+/// every other one each time the buffer is full). The median is exact up to kCapacity frames and, beyond,
+/// the median of evenly spaced frames of the whole run.
+class FrameSamples {
+ public:
+  void add(double value) {
+    const std::size_t frame = seen_++;
+    if (frame % stride_ != 0) return;
+    if (v_.size() == kCapacity) {  // keep frames 0, 2·stride, 4·stride, ...: `frame` is one of them
+      for (std::size_t k = 0; k < kCapacity / 2; ++k) v_[k] = v_[2 * k];
+      v_.resize(kCapacity / 2);
+      stride_ *= 2;
+    }
+    v_.push_back(value);
+  }
+  /// The upper median (the middle element of the sorted samples); precondition: a sample was added.
+  double median() const {
+    std::vector<double> v = v_;
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  }
+
+ private:
+  static constexpr std::size_t kCapacity = 4096;  // even: thinning keeps the next frame's index on the grid
+  std::vector<double> v_;
+  std::size_t stride_ = 1, seen_ = 0;
+};
 
 /// --select-box / --select-lasso: the visible vertices in a pixel region of `cam`.
 std::vector<int> select_region(const Args& a, Session& s, const render::OrbitCamera& cam, int w, int h) {
@@ -179,6 +204,7 @@ int run_headless(const Args& a) {
     backend = offscreen->description();
   }
   const render::OrbitCamera shot = render::render_camera(V, o);
+  int status = 0;
   {
     render::MeshRenderer renderer;
     render::Framebuffer fb(o.width, o.height, o.samples);
@@ -191,6 +217,10 @@ int run_headless(const Args& a) {
       o.style.signed_range = std::max(rho.cwiseAbs().maxCoeff(), 1e-12);
     }
     fb.bind();
+    // From here a signal (SIGINT, SIGTERM) stops the frame loop between two frames, and nothing is written:
+    // the screenshot shows a run's last frame, so a stopped run has none (exit 128 + signal).
+    const InterruptGuard guard;
+    int done = 0;  // frames posed and drawn
     if (a.frames > 0 && s.animation() >= 0) {
       // A rig plays its animation: frame f at time start + f/(N−1) of the range; with --snap --keep-pose
       // every frame is handed to the snap worker as the window's "clean up each frame" does (a request
@@ -202,85 +232,99 @@ int run_headless(const Args& a) {
       if (a.snap && a.keep_pose)
         cleaner = std::make_unique<SnapWorker>(s.rest()), pins = s.cleanup_pins(),
         attraction = s.cleanup_attraction();
-      std::vector<double> pose_ms, draw_ms;
+      FrameSamples pose_ms, draw_ms;
       int requested = 0;
-      for (int f = 0; f < a.frames; ++f) {
+      for (int f = 0; f < a.frames && !interrupted(); ++f, ++done) {
         s.set_time(a.frames > 1 ? t0 + (t1 - t0) * f / (a.frames - 1) : t0);
         const Eigen::MatrixXd& Vf = s.posed();
-        pose_ms.push_back(s.pose_ms());
+        pose_ms.add(s.pose_ms());
         if (cleaner)
           cleaner->request_pinned(Vf, pins, attraction.pose_weight, attraction.weights), ++requested;
         const auto t2 = Clock::now();
         renderer.set_positions(Vf);
         renderer.draw(cam, o.width, o.height, o.style);
         render::gl.Finish();
-        draw_ms.push_back(ms_since(t2));
+        draw_ms.add(ms_since(t2));
       }
-      std::printf(
-          "animation over %d frames (t = %.4g .. %.4g s): pose %.2f ms, upload + draw %.2f ms (medians)\n",
-          a.frames, t0, t1, median(pose_ms), median(draw_ms));
-      if (cleaner) {
-        cleaner->wait_idle(600);
-        auto r = cleaner->take();
-        if (!r || !r->error.empty())
-          throw Error("cleanup failed: " + (r ? r->error : std::string("no result")));
+      // Stopped by a signal: nothing more to show (the cleaner's destructor waits for the frame it is
+      // cleaning and drops the queued one).
+      if (!interrupted()) {
         std::printf(
-            "cleanup per frame: %d requested, %llu dropped as stale, last frame Q_mean %.4f -> %.4f\n",
-            requested, (unsigned long long)cleaner->discarded(),
-            quasi_conformal_summary(s.rest().V, s.rest().F, s.posed()).q_mean, r->q_mean);
-        V = r->V;
-      } else {
-        V = s.posed();
+            "animation over %d frames (t = %.4g .. %.4g s): pose %.2f ms, upload + draw %.2f ms (medians)\n",
+            a.frames, t0, t1, pose_ms.median(), draw_ms.median());
+        if (cleaner) {
+          cleaner->wait_idle(600);
+          auto r = cleaner->take();
+          if (!r || !r->error.empty())
+            throw Error("cleanup failed: " + (r ? r->error : std::string("no result")));
+          std::printf(
+              "cleanup per frame: %d requested, %llu dropped as stale, last frame Q_mean %.4f -> %.4f\n",
+              requested, (unsigned long long)cleaner->discarded(),
+              quasi_conformal_summary(s.rest().V, s.rest().F, s.posed()).q_mean, r->q_mean);
+          V = r->V;
+        } else {
+          V = s.posed();
+        }
+        renderer.set_positions(V);
+        if (o.style.color == render::ColorMode::Q)
+          renderer.set_face_values(quasi_conformal_error(s.rest().V, s.rest().F, V));
       }
-      renderer.set_positions(V);
-      if (o.style.color == render::ColorMode::Q)
-        renderer.set_face_values(quasi_conformal_error(s.rest().V, s.rest().F, V));
     } else if (a.frames > 0) {
       // The frame timer: pose (deformer) + upload (normals, float conversion, buffer update) + draw.
       const std::string h = s.controls().empty() ? "" : s.controls().front();
       if (h.empty()) throw Error("--frames needs a scene with a control");
-      std::vector<double> pose_ms, upload_ms, pu_ms, draw_ms, frame_ms;
+      FrameSamples pose_ms, upload_ms, pu_ms, draw_ms, frame_ms;
       const ga::Mot m0 = s.motor(h);
       int axis = 0;  // the ring that faces the camera best
       (cam.eye() - cam.target).cwiseAbs().maxCoeff(&axis);
-      for (int f = 0; f < a.frames; ++f) {
+      for (int f = 0; f < a.frames && !interrupted(); ++f, ++done) {
         const auto t0 = Clock::now();
         GizmoSpec g{h, GizmoMode::Rotate, axis, 30.0 * (f + 1) / a.frames};
         s.set_motor(h, m0);
         s.set_motor(h, simulate_drag(s, cam, o.width, o.height, g));
         const Eigen::MatrixXd& Vf = s.posed();
-        pose_ms.push_back(s.pose_ms());
+        const double pose = s.pose_ms();
         const auto t1 = Clock::now();
         renderer.set_positions(Vf);
-        upload_ms.push_back(ms_since(t1));
-        pu_ms.push_back(pose_ms.back() + upload_ms.back());
+        const double upload = ms_since(t1);
+        pose_ms.add(pose);
+        upload_ms.add(upload);
+        pu_ms.add(pose + upload);
         const auto t2 = Clock::now();
         renderer.draw(cam, o.width, o.height, o.style);
         render::gl.Finish();
-        draw_ms.push_back(ms_since(t2));
-        frame_ms.push_back(ms_since(t0));
+        draw_ms.add(ms_since(t2));
+        frame_ms.add(ms_since(t0));
       }
-      std::printf(
-          "frame timer over %d frames (%s, %dx%d): pose %.2f ms, upload %.2f ms, pose+upload %.2f ms, "
-          "draw %.2f ms, frame %.2f ms (medians)\n",
-          a.frames, backend.c_str(), o.width, o.height, median(pose_ms), median(upload_ms), median(pu_ms),
-          median(draw_ms), median(frame_ms));
+      if (!interrupted())
+        std::printf(
+            "frame timer over %d frames (%s, %dx%d): pose %.2f ms, upload %.2f ms, pose+upload %.2f ms, "
+            "draw %.2f ms, frame %.2f ms (medians)\n",
+            a.frames, backend.c_str(), o.width, o.height, pose_ms.median(), upload_ms.median(),
+            pu_ms.median(), draw_ms.median(), frame_ms.median());
     }
-    renderer.draw(shot, o.width, o.height, o.style);
-    render::Image im = fb.read();
-    if (a.skeleton) {
-      const std::vector<PosedBone> bones = s.posed_bones();
-      if (bones.empty()) throw Error("--skeleton: the deformer is not a skin");
-      std::printf("skeleton: %zu bones, %d pixels\n", bones.size(), draw_bones(im, bones, shot));
+    if (const int sig = interrupted()) {
+      std::fprintf(stderr,
+                   "spinmotor-viewer: interrupted by %s after %d of %d frames; no screenshot written\n",
+                   signal_name(sig).c_str(), done, a.frames);
+      status = interrupted_exit_code(sig);
+    } else {
+      renderer.draw(shot, o.width, o.height, o.style);
+      render::Image im = fb.read();
+      if (a.skeleton) {
+        const std::vector<PosedBone> bones = s.posed_bones();
+        if (bones.empty()) throw Error("--skeleton: the deformer is not a skin");
+        std::printf("skeleton: %zu bones, %d pixels\n", bones.size(), draw_bones(im, bones, shot));
+      }
+      if (o.style.color == render::ColorMode::Q && o.color_bar)
+        render::draw_color_bar(im, o.style.q_min, o.style.q_max);
+      render::write_png(a.screenshot, im);
+      std::printf("wrote %s (%dx%d, %s)\n", a.screenshot.c_str(), o.width, o.height, backend.c_str());
     }
-    if (o.style.color == render::ColorMode::Q && o.color_bar)
-      render::draw_color_bar(im, o.style.q_min, o.style.q_max);
-    render::write_png(a.screenshot, im);
-    std::printf("wrote %s (%dx%d, %s)\n", a.screenshot.c_str(), o.width, o.height, backend.c_str());
   }
   if (window) glfwDestroyWindow(window);
   glfwTerminate();
-  return 0;
+  return status;
 }
 
 }  // namespace spinmotor::viewer::app
