@@ -41,8 +41,9 @@ void require_memory(std::uint64_t estimate, std::string_view what) {
   std::ostringstream s;
   s << what << " needs an estimated " << format_bytes(estimate) << " of memory; the limit is "
     << format_bytes(limit)
-    << (g_limit.load(std::memory_order_relaxed) ? " (set by --max-memory or set_memory_limit)"
-                                                : " (the available memory; --max-memory or set_memory_limit sets it)");
+    << (g_limit.load(std::memory_order_relaxed)
+            ? " (set by --max-memory or set_memory_limit)"
+            : " (the available memory; --max-memory or set_memory_limit sets it)");
   throw Error(s.str());
 }
 
@@ -58,15 +59,23 @@ std::uint64_t parse_memory_size(std::string_view text) {
   if (ec != std::errc() || !(value > 0) || !std::isfinite(value)) throw bad();
   std::string unit(p, end);
   for (char& c : unit) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  if (unit.ends_with("IB")) unit.resize(unit.size() - 2);
-  else if (unit.size() > 1 && unit.ends_with("B")) unit.pop_back();
-  else if (unit == "B") unit.clear();
+  if (unit.ends_with("IB"))
+    unit.resize(unit.size() - 2);
+  else if (unit.size() > 1 && unit.ends_with("B"))
+    unit.pop_back();
+  else if (unit == "B")
+    unit.clear();
   double scale = 1;
-  if (unit == "K") scale = 0x1p10;
-  else if (unit == "M") scale = 0x1p20;
-  else if (unit == "G") scale = 0x1p30;
-  else if (unit == "T") scale = 0x1p40;
-  else if (!unit.empty()) throw bad();
+  if (unit == "K")
+    scale = 0x1p10;
+  else if (unit == "M")
+    scale = 0x1p20;
+  else if (unit == "G")
+    scale = 0x1p30;
+  else if (unit == "T")
+    scale = 0x1p40;
+  else if (!unit.empty())
+    throw bad();
   const double bytes = value * scale;
   if (bytes < 1 || bytes >= 0x1p64) throw bad();
   return static_cast<std::uint64_t>(bytes);

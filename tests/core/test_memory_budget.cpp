@@ -58,8 +58,9 @@ TEST_CASE("memory limit: the available memory by default, set and reset, refusal
   CHECK(memory_limit() == 100ull << 20);
   CHECK_NOTHROW(require_memory(100ull << 20, "exactly the limit"));
   const std::string m = message_of(300ull << 20, "the big thing");
-  CHECK(m == "the big thing needs an estimated 300 MB of memory; the limit is 100 MB (set by --max-memory or "
-             "set_memory_limit)");
+  CHECK(m ==
+        "the big thing needs an estimated 300 MB of memory; the limit is 100 MB (set by --max-memory or "
+        "set_memory_limit)");
   set_memory_limit(0);
   CHECK(memory_limit() != 100ull << 20);
   const std::string d = message_of(UINT64_MAX - 1, "everything");
