@@ -92,7 +92,7 @@ Mesh read_off(const fs::path& path) {
     if (k < 3)
       fail(path, ln,
            "face " + std::to_string(f) + " has " + std::to_string(k) + " vertices (at least 3 needed)");
-    if (static_cast<long long>(tok.size()) < k + 1)
+    if (k > static_cast<long long>(tok.size()) - 1)  // not k + 1 > size: k may be LLONG_MAX
       fail(path, ln,
            "face " + std::to_string(f) + " announces " + std::to_string(k) + " vertices, the line holds " +
                std::to_string(tok.size() - 1));

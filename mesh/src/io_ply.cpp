@@ -300,6 +300,10 @@ Mesh read_ply(const fs::path& path) {
     const char* p = bytes.data() + lines.offset();
     const char* const end = bytes.data() + bytes.size();
     for (const Element& e : elements) {
+      // An element without properties takes no bytes: skip it rather than count to its (up to 2^31)
+      // items, which a 200-byte file could ask for (found by fuzz_ply). Every other item takes at least
+      // one byte, so the file size bounds the loop.
+      if (e.props.empty()) continue;
       const bool is_v = &e == vertex_el, is_f = &e == face_el;
       for (long long i = 0; i < e.count; ++i) {
         double xyz[3] = {0, 0, 0};

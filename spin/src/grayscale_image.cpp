@@ -2,6 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <string>
 
 #include "spinmotor/core/error.hpp"
 
@@ -35,14 +40,62 @@ double GrayscaleImage::sample(double x, double y) const {
   return by * (bx * at(x0, y0) + ax * at(x1, y0)) + ay * (bx * at(x0, y1) + ax * at(x1, y1));
 }
 
+namespace {
+
+// stb_image trusts sizes in the file before it reads what they announce, so a few bytes can make it
+// allocate gigabytes (found by fuzz_image); both are checked against the file size first:
+//   - the image: stb allocates the announced pixels and zero-fills what an uncompressed TGA lacks (an
+//     80-byte TGA claimed 16708 × 30804 pixels: 514 MB, 2 GB as floats). No TGA or PNG holds more pixels
+//     per byte than kMaxPixelsPerByte: deflate expands at most 1032:1 and PNG packs down to 8 pixels per
+//     byte (1-bit grey); an RLE TGA packet of 2 bytes holds at most 128 pixels.
+//   - PNG chunks: stb grows its IDAT buffer to a chunk's declared length before reading the chunk (an
+//     81-byte PNG declared 1.36 GB); walk_png_chunks refuses a chunk longer than the rest of the file.
+constexpr double kMaxPixelsPerByte = 8.0 * 1032.0;
+
+/// For a PNG (by its signature): the first chunk whose declared length runs past the end of the file, as
+/// a message, or "" when every chunk fits (or the file is not a PNG; stb reports other defects).
+std::string png_chunk_overrun(const std::string& b) {
+  static const char kSignature[8] = {'\x89', 'P', 'N', 'G', '\r', '\n', '\x1a', '\n'};
+  if (b.size() < 8 || b.compare(0, 8, kSignature, 8) != 0) return "";
+  for (std::size_t at = 8; b.size() - at >= 8;) {
+    const auto byte = [&](std::size_t i) {
+      return static_cast<std::uint64_t>(static_cast<unsigned char>(b[i]));
+    };
+    const std::uint64_t length = byte(at) << 24 | byte(at + 1) << 16 | byte(at + 2) << 8 | byte(at + 3);
+    const std::uint64_t left = b.size() - at - 8;  // after the length and type fields
+    if (length > left)
+      return "PNG chunk '" + b.substr(at + 4, 4) + "' at byte " + std::to_string(at) + " declares " +
+             std::to_string(length) + " bytes, the file has " + std::to_string(left) + " left";
+    at += 8 + length + std::min<std::uint64_t>(4, left - length);  // data and CRC
+  }
+  return "";
+}
+
+}  // namespace
+
 GrayscaleImage read_grayscale_image(const std::filesystem::path& path) {
+  const std::string who = "cannot read image '" + path.string() + "': ";
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(who + "cannot open the file");
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw Error(who + "read error");
+  if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw Error(who + "larger than 2 GB");
+  if (const std::string overrun = png_chunk_overrun(bytes); !overrun.empty())
+    throw Error(who + overrun + " (corrupt or truncated)");
+  const auto* data_in = reinterpret_cast<const stbi_uc*>(bytes.data());
+  const int size = static_cast<int>(bytes.size());
   stbi_set_flip_vertically_on_load(1);  // stb reports the top row first; we store the bottom row first
   int w = 0, h = 0, channels = 0;
-  unsigned char* data = stbi_load(path.string().c_str(), &w, &h, &channels, 1);
+  if (stbi_info_from_memory(data_in, size, &w, &h, &channels) &&
+      static_cast<double>(w) * h > kMaxPixelsPerByte * static_cast<double>(bytes.size()))
+    throw Error(who + "its header announces " + std::to_string(w) + " x " + std::to_string(h) +
+                " pixels, more than its " + std::to_string(bytes.size()) +
+                " bytes can hold (corrupt or truncated)");
+  unsigned char* data = stbi_load_from_memory(data_in, size, &w, &h, &channels, 1);
   if (!data) {
     const char* why = stbi_failure_reason();
-    throw Error("cannot read image '" + path.string() + "': " + (why ? why : "unknown error") +
-                " (TGA or PNG expected)");
+    throw Error(who + (why ? why : "unknown error") + " (TGA or PNG expected)");
   }
   GrayscaleImage img;
   img.width = w;

@@ -1,5 +1,6 @@
 #include "spinmotor/spin/scalar_expression.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -13,9 +14,16 @@ namespace spinmotor {
 
 namespace {
 
+// Bounds on what the parser accepts, so that no input can overflow the stack: evaluation and
+// destruction recurse once per tree level (a chain "x+x+...+x" is as deep as it is long), parsing once
+// per nesting level ('(', unary sign, '^', function call) through five functions.
+constexpr int kMaxTreeDepth = 1000;
+constexpr int kMaxNesting = 100;
+
 // Expression tree; evaluation is a recursive walk (the expressions are tiny).
 struct Node {
   enum class Op { Num, X, Y, Z, R, Add, Sub, Mul, Div, Pow, Neg, Fun } op;
+  int depth = 1;  // levels of the tree below and including this node
   double value = 0;
   double (*fun)(double) = nullptr;
   std::unique_ptr<Node> a, b;
@@ -56,6 +64,7 @@ NodePtr make(Node::Op op, NodePtr a = nullptr, NodePtr b = nullptr) {
   n->op = op;
   n->a = std::move(a);
   n->b = std::move(b);
+  n->depth = 1 + std::max(n->a ? n->a->depth : 0, n->b ? n->b->depth : 0);
   return n;
 }
 
@@ -72,6 +81,7 @@ class Parser {
  private:
   const std::string& s_;
   std::size_t i_ = 0;
+  int nesting_ = -1;  // levels entered by unary(); the outermost expression is level 0
 
   [[noreturn]] void fail(const std::string& what) const {
     std::ostringstream m;
@@ -86,13 +96,21 @@ class Parser {
     if (i_ < s_.size() && s_[i_] == c) return ++i_, true;
     return false;
   }
+  // make() with the tree-depth bound.
+  NodePtr node(Node::Op op, NodePtr a, NodePtr b = nullptr) {
+    NodePtr n = make(op, std::move(a), std::move(b));
+    if (n->depth > kMaxTreeDepth)
+      fail("more than " + std::to_string(kMaxTreeDepth) +
+           " levels of operations (the expression is too long)");
+    return n;
+  }
   NodePtr expr() {
     NodePtr e = term();
     for (;;) {
       if (accept('+'))
-        e = make(Node::Op::Add, std::move(e), term());
+        e = node(Node::Op::Add, std::move(e), term());
       else if (accept('-'))
-        e = make(Node::Op::Sub, std::move(e), term());
+        e = node(Node::Op::Sub, std::move(e), term());
       else
         return e;
     }
@@ -101,21 +119,31 @@ class Parser {
     NodePtr e = unary();
     for (;;) {
       if (accept('*'))
-        e = make(Node::Op::Mul, std::move(e), unary());
+        e = node(Node::Op::Mul, std::move(e), unary());
       else if (accept('/'))
-        e = make(Node::Op::Div, std::move(e), unary());
+        e = node(Node::Op::Div, std::move(e), unary());
       else
         return e;
     }
   }
+  // Every nesting level passes here once: the recursion bound.
   NodePtr unary() {
-    if (accept('-')) return make(Node::Op::Neg, unary());
-    if (accept('+')) return unary();
-    return power();
+    if (++nesting_ > kMaxNesting)
+      fail("nested more than " + std::to_string(kMaxNesting) +
+           " levels deep (parentheses, signs, '^', functions)");
+    NodePtr e;
+    if (accept('-'))
+      e = node(Node::Op::Neg, unary());
+    else if (accept('+'))
+      e = unary();
+    else
+      e = power();
+    --nesting_;
+    return e;
   }
   NodePtr power() {
     NodePtr base = atom();
-    if (accept('^')) return make(Node::Op::Pow, std::move(base), unary());
+    if (accept('^')) return node(Node::Op::Pow, std::move(base), unary());
     return base;
   }
   NodePtr atom() {
@@ -167,7 +195,7 @@ class Parser {
              "acos, atan, sinh, cosh, tanh, exp, log, sqrt, abs)");
       }
       if (!accept('(')) fail("expected '(' after " + name);
-      auto n = make(Node::Op::Fun, expr());
+      auto n = node(Node::Op::Fun, expr());
       n->fun = f->second;
       if (!accept(')')) fail("expected ')'");
       return n;

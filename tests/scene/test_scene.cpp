@@ -137,6 +137,21 @@ TEST_CASE("schema errors name the JSON path of the bad value", "[scene][schema]"
   CHECK_THAT(error_of(doc), Catch::Contains("doc.json: /: missing required key 'deformer'"));
 }
 
+TEST_CASE("schema integers are within the range of int, as the loader reads them", "[scene][schema]") {
+  // 1e300 is integral, so it was an "integer", and get<int>() of it undefined (found by fuzz_scene).
+  const JsonSchema s(json::parse(R"({"type": "integer"})"));
+  CHECK(s.validate(json(2147483647)).empty());
+  CHECK(s.validate(json(-2147483648LL)).empty());
+  CHECK(s.validate(json(3.0)).empty());
+  for (const json& big :
+       {json(1e300), json(2147483648LL), json(-2147483649LL), json(18446744073709551615ULL)}) {
+    const auto errors = s.validate(big);
+    CAPTURE(big.dump());
+    REQUIRE(errors.size() == 1);
+    CHECK_THAT(errors[0].message, Catch::Contains("out of range"));
+  }
+}
+
 TEST_CASE("the schema validator rejects unsupported keywords", "[scene][schema]") {
   CHECK_THROWS_WITH(JsonSchema(json::parse(R"({"type": "object", "patternProperties": {}})")),
                     Catch::Contains("unsupported keyword 'patternProperties'"));

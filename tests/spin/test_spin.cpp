@@ -325,6 +325,25 @@ TEST_CASE("bad input gives clear errors", "[spin][errors]") {
   }
 }
 
+TEST_CASE("scalar expressions: the nesting and depth limits refuse what would overflow the stack",
+          "[spin][rho]") {
+  // Found by fuzz_expression (fuzz/regressions/fuzz_expression/): 1200 nested parentheses overflowed the
+  // parser's stack under ASan; a long sum overflows evaluation (one level per term) without them.
+  const Eigen::Vector3d p(1, 2, 3);
+  auto repeat = [](const std::string& s, int n) {
+    std::string out;
+    for (int i = 0; i < n; ++i) out += s;
+    return out;
+  };
+  CHECK(parse_scalar_expression(repeat("(", 100) + "x" + repeat(")", 100))(p) == 1.0);
+  CHECK_THROWS_WITH(parse_scalar_expression(repeat("(", 101) + "x" + repeat(")", 101)),
+                    Catch::Contains("nested more than 100 levels"));
+  CHECK_THROWS_WITH(parse_scalar_expression(repeat("-", 300000) + "x"), Catch::Contains("nested more than"));
+  CHECK(parse_scalar_expression("0" + repeat("+x", 999))(p) == 999.0);
+  CHECK_THROWS_WITH(parse_scalar_expression("0" + repeat("+x", 300000)),
+                    Catch::Contains("more than 1000 levels of operations"));
+}
+
 TEST_CASE("rho inputs: per vertex, scalar expression, image sampling", "[spin][rho]") {
   SPINMOTOR_REQUIRE_MESHES();
   const Mesh m = icosphere(2);

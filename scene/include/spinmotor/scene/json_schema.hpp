@@ -1,7 +1,8 @@
 #pragma once
 // A small JSON Schema validator for the subset of draft-07 that the scene schema uses (Debian ships no
 // C++ JSON Schema validator). Supported keywords:
-//   type (string or list; "integer" accepts integral floats), const, enum, properties, required,
+//   type (string or list; "integer" accepts integral floats, and only within the range of int, which
+//   is how the loader reads them), const, enum, properties, required,
 //   additionalProperties (false or a schema), items (one schema for every element), minItems,
 //   maxItems, minimum, maximum, exclusiveMinimum, exclusiveMaximum (numbers), minLength, oneOf,
 //   anyOf, $ref ("#/definitions/..." or "#/$defs/..."), and the annotations $schema, $id, title,

@@ -10,6 +10,8 @@
 //   atom   = number | variable | function '(' expr ')' | '(' expr ')'
 // Variables: x, y, z (the position), r = |p|. Constants: pi, e. Functions: sin, cos, tan, asin, acos,
 // atan, sinh, cosh, tanh, exp, log, sqrt, abs. Numbers: decimal with optional exponent (1e-3).
+// Limits (so that no text can overflow the stack): at most 100 nesting levels (parentheses, signs, '^',
+// function calls) and a tree at most 1000 operations deep (e.g. a sum of at most 1000 terms).
 #include <Eigen/Core>
 #include <functional>
 #include <string>
