@@ -1,17 +1,8 @@
 // fuzz_off: read_off (mesh/io.hpp) on OFF (the OFF/COFF/NOFF/... headers), then the mesh checks of
 // fuzz_support.hpp (io.hpp's promises and validate()).
 #include "fuzz_support.hpp"
-#include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::filesystem::path path = spinmotor::fuzz::write_input(data, size, "input.off");
-  spinmotor::Mesh mesh;
-  try {
-    mesh = spinmotor::read_off(path);
-  } catch (const spinmotor::Error& e) {
-    return spinmotor::fuzz::refused(e);  // the expected way out
-  }
-  spinmotor::fuzz::check_mesh(mesh);
-  return 0;
+  return spinmotor::fuzz::fuzz_mesh_reader(data, size, "input.off", &spinmotor::read_off);
 }

@@ -15,6 +15,7 @@
 #include <fstream>
 #include <string>
 
+#include "spinmotor/core/error.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 #include "spinmotor/mesh/validate.hpp"
 
@@ -88,6 +89,21 @@ inline void check_mesh(const Mesh& mesh) {
     check(mesh.FUV.minCoeff() >= 0 && mesh.FUV.maxCoeff() < mesh.UV.rows(), "FUV indexes UV");
   const MeshReport report = validate(mesh);
   (void)report.defects_summary();
+}
+
+/// The body of the four mesh-format targets: the input as a file named `name`, read by `read`
+/// (read_obj, read_off, ...), refused with an Error or checked with check_mesh.
+inline int fuzz_mesh_reader(const std::uint8_t* data, std::size_t size, const char* name,
+                            Mesh (*read)(const std::filesystem::path&)) {
+  const std::filesystem::path path = write_input(data, size, name);
+  Mesh mesh;
+  try {
+    mesh = read(path);
+  } catch (const Error& e) {
+    return refused(e);  // the expected way out
+  }
+  check_mesh(mesh);
+  return 0;
 }
 
 }  // namespace spinmotor::fuzz

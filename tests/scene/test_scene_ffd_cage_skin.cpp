@@ -87,6 +87,15 @@ json cage_scene() {
   })");
 }
 
+/// The cage of cage_scene(): an icosphere of radius 2 without texture coordinates, as DIR/cage.obj.
+Mesh write_cage(const fs::path& dir) {
+  Mesh cage = icosphere(1, 2.0);
+  cage.UV.resize(0, 2);
+  cage.FUV.resize(0, 3);
+  write_mesh(dir / "cage.obj", cage);
+  return cage;
+}
+
 json skin_scene() {
   return json::parse(R"({
     "mesh": {"generate": "tube", "radius": 0.5, "length": 4, "rings": 41, "sides": 16, "capped": true},
@@ -129,10 +138,7 @@ TEST_CASE("ffd scene: controls posed by name, metrics count the controls", "[sce
 TEST_CASE("cage scene: good cage runs, open or inconsistently oriented cages exit 2 without output",
           "[scene][cage]") {
   TempDir t;
-  Mesh cage = icosphere(1, 2.0);
-  cage.UV.resize(0, 2);
-  cage.FUV.resize(0, 3);
-  write_mesh(t.path / "cage.obj", cage);
+  Mesh cage = write_cage(t.path);
   {
     const CliResult r = deform(t.path, cage_scene());
     INFO(r.err);
@@ -294,10 +300,7 @@ TEST_CASE("skin scene with mush: Delta Mush and DDM of 0 iterations are LBS, mor
 TEST_CASE("cage scene: --max-memory refuses a grid that cannot fit at once, exit 2, no output",
           "[scene][cage][memory]") {
   TempDir t;
-  Mesh cage = icosphere(1, 2.0);
-  cage.UV.resize(0, 2);
-  cage.FUV.resize(0, 3);
-  write_mesh(t.path / "cage.obj", cage);
+  write_cage(t.path);
   json doc = cage_scene();
   doc["deformer"]["grid"] = 512;
   const auto t0 = std::chrono::steady_clock::now();
