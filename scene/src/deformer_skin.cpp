@@ -29,7 +29,7 @@ Eigen::MatrixXd read_json_weights(const Scene& s, const std::filesystem::path& p
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for 1e400
     throw s.error("/deformer/weights", who + ": " + e.what());
   }
   auto fail = [&](const std::string& ptr, const std::string& msg) {

@@ -491,7 +491,7 @@ Scene load_scene(const std::filesystem::path& file) {
   json doc;
   try {
     doc = json::parse(text.str());
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for a number beyond double (1e400)
     throw Error(file.filename().string() + ": invalid JSON: " + e.what());
   }
   const std::filesystem::path abs = std::filesystem::absolute(file);
