@@ -3,8 +3,10 @@
 // spin when a drag ends" and "apply the painted curvature". Every request gets a new generation and
 // replaces a queued one; cancel() makes everything queued or running stale; a result whose
 // generation is no longer the latest is discarded, so the UI never shows the answer to a question it
-// no longer asks. `compute` runs on the worker thread and may keep state between calls (e.g. a
-// factorization bound on the first request); it must not throw (report errors in its Outcome).
+// no longer asks. Every request ends exactly once: taken, or counted in discarded() (replaced while
+// queued, cancelled, finished stale, or finished but replaced before anyone took it). `compute` runs on the
+// worker thread and may keep state between calls (e.g. a factorization bound on the first request); it must
+// not throw (report errors in its Outcome).
 //
 //   LatestJobWorker<Eigen::VectorXd, Result> w([](Eigen::VectorXd& rho, std::uint64_t g) { ... });
 //   w.request(rho);            // UI thread, returns at once
@@ -62,6 +64,7 @@ class LatestJobWorker {
     {
       std::lock_guard lock(mutex_);
       if (queued_) ++discarded_;  // replaced before it started
+      if (result_) ++discarded_;  // finished, never taken
       g = ++latest_;
       queued_.emplace(g, std::move(job));
       result_.reset();
@@ -73,8 +76,8 @@ class LatestJobWorker {
   void cancel() {
     std::lock_guard lock(mutex_);
     if (queued_) ++discarded_, queued_.reset();
+    if (result_) ++discarded_, result_.reset();
     ++latest_;
-    result_.reset();
     idle_cv_.notify_all();
   }
   /// The result of the latest request, once (nothing while it runs, or when it was cancelled).
@@ -94,7 +97,8 @@ class LatestJobWorker {
     return idle_cv_.wait_for(lock, std::chrono::duration<double>(timeout_s),
                              [&] { return !running_ && !queued_; });
   }
-  /// Results dropped as stale so far.
+  /// Requests dropped so far: replaced while queued, cancelled, finished stale, or finished and then
+  /// replaced by a newer request before take().
   std::uint64_t discarded() const {
     std::lock_guard lock(mutex_);
     return discarded_;
