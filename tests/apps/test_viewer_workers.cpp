@@ -70,10 +70,11 @@ Tally stress(Worker& w, int requests, int pool, double wait_ms, std::uint64_t se
     if (!r) return;
     ++t.taken;
     std::string why;
-    if (!live) why = "a result after a cancel";
+    if (!live)
+      why = "a result after a cancel";
     else if (r->generation != latest_generation)
-      why = "generation " + std::to_string(r->generation) + " taken while " + std::to_string(latest_generation) +
-            " is the latest";
+      why = "generation " + std::to_string(r->generation) + " taken while " +
+            std::to_string(latest_generation) + " is the latest";
     else
       why = check(*r, latest_job);
     if (!why.empty() && t.wrong++ == 0) t.first_wrong = why;
@@ -91,7 +92,8 @@ Tally stress(Worker& w, int requests, int pool, double wait_ms, std::uint64_t se
   });
   std::thread submitter([&] {
     std::mt19937_64 rng(seed);
-    std::uniform_int_distribution<int> pick(0, pool - 1), percent(0, 99), pause_us(0, 400), wait_us(0, static_cast<int>(1000 * wait_ms));
+    std::uniform_int_distribution<int> pick(0, pool - 1), percent(0, 99), pause_us(0, 400),
+        wait_us(0, static_cast<int>(1000 * wait_ms));
     for (int i = 0; i < requests; ++i) {
       {
         std::lock_guard lock(ui);
@@ -109,8 +111,10 @@ Tally stress(Worker& w, int requests, int pool, double wait_ms, std::uint64_t se
       // Mostly a drag's rate of requests (none to 0.4 ms apart: most are replaced before they run);
       // now and then a pause in which a job can finish and be taken.
       const int p = percent(rng);
-      if (p < 3) std::this_thread::sleep_for(std::chrono::microseconds(wait_us(rng)));
-      else if (p < 28) std::this_thread::sleep_for(std::chrono::microseconds(pause_us(rng)));
+      if (p < 3)
+        std::this_thread::sleep_for(std::chrono::microseconds(wait_us(rng)));
+      else if (p < 28)
+        std::this_thread::sleep_for(std::chrono::microseconds(pause_us(rng)));
     }
   });
   submitter.join();
@@ -126,8 +130,8 @@ Tally stress(Worker& w, int requests, int pool, double wait_ms, std::uint64_t se
 }
 
 void require_accounted(const Tally& t, int requests) {
-  INFO("sent " << t.sent << ", cancels " << t.cancels << ", taken " << t.taken << ", discarded " << t.discarded
-               << ", first wrong: " << t.first_wrong);
+  INFO("sent " << t.sent << ", cancels " << t.cancels << ", taken " << t.taken << ", discarded "
+               << t.discarded << ", first wrong: " << t.first_wrong);
   CHECK(t.sent == static_cast<std::uint64_t>(requests));
   CHECK(t.wrong == 0);
   CHECK(t.taken + t.discarded == t.sent);  // every request ends exactly once
@@ -164,8 +168,9 @@ Eigen::MatrixXd twisted(const Mesh& rest, double turn) {
 
 }  // namespace
 
-TEST_CASE("LatestJobWorker: 10000 requests, cancels and a polling reader: each ends once, only the latest shows",
-          "[viewer][threads]") {
+TEST_CASE(
+    "LatestJobWorker: 10000 requests, cancels and a polling reader: each ends once, only the latest shows",
+    "[viewer][threads]") {
   struct Echo {
     std::uint64_t generation = 0;
     Eigen::MatrixXd V;
@@ -200,8 +205,9 @@ TEST_CASE("LatestJobWorker: 10000 requests, cancels and a polling reader: each e
   require_accounted(t, kRequests);
 }
 
-TEST_CASE("SnapWorker: 2000 snap and pose-keeping requests (two pin sets: rebinds), cancels, a polling reader",
-          "[viewer][threads]") {
+TEST_CASE(
+    "SnapWorker: 2000 snap and pose-keeping requests (two pin sets: rebinds), cancels, a polling reader",
+    "[viewer][threads]") {
   const Mesh rest = capsule();
   // The pool: three twists, each as a free snap at tradeoff 1 and 0.5, and as a pinned cleanup with
   // the caps pinned (|z| > 1.4) or only the bottom cap pinned (z < -1.4): switching pins rebinds.
@@ -230,8 +236,10 @@ TEST_CASE("SnapWorker: 2000 snap and pose-keeping requests (two pin sets: rebind
   PinnedCleanup clean_caps = PinnedCleanup::bind(rest, std::span<const int>(caps));
   PinnedCleanup clean_bottom = PinnedCleanup::bind(rest, std::span<const int>(bottom));
   for (Entry& e : pool) {
-    if (e.pins == &caps) clean_caps.cleanup(e.edit, e.reference);
-    else if (e.pins == &bottom) clean_bottom.cleanup(e.edit, e.reference);
+    if (e.pins == &caps)
+      clean_caps.cleanup(e.edit, e.reference);
+    else if (e.pins == &bottom)
+      clean_bottom.cleanup(e.edit, e.reference);
     else {
       snap.set_tradeoff(e.tradeoff);
       e.reference = snap.snap(e.edit).V;
@@ -239,7 +247,8 @@ TEST_CASE("SnapWorker: 2000 snap and pose-keeping requests (two pin sets: rebind
   }
   // The references differ from one another by far more than the tolerance: a swapped result shows.
   for (std::size_t a = 0; a < pool.size(); ++a)
-    for (std::size_t b = a + 1; b < pool.size(); ++b) REQUIRE(max_abs_diff(pool[a].reference, pool[b].reference) > 1e-3);
+    for (std::size_t b = a + 1; b < pool.size(); ++b)
+      REQUIRE(max_abs_diff(pool[a].reference, pool[b].reference) > 1e-3);
 
   SnapWorker w(rest);
   constexpr int kRequests = 2000;
@@ -252,14 +261,16 @@ TEST_CASE("SnapWorker: 2000 snap and pose-keeping requests (two pin sets: rebind
       [&](const SnapOutcome& r, int job) -> std::string {
         const Entry& e = pool[static_cast<std::size_t>(job)];
         if (!r.error.empty()) return "job " + std::to_string(job) + ": " + r.error;
-        if (r.pinned != (e.pins != nullptr)) return "job " + std::to_string(job) + ": the wrong kind of cleanup";
+        if (r.pinned != (e.pins != nullptr))
+          return "job " + std::to_string(job) + ": the wrong kind of cleanup";
         return differs(r.V, e.reference, job);
       });
   require_accounted(t, kRequests);
 }
 
-TEST_CASE("SpinPaintWorker: 2000 curvature requests, cancels, a polling reader: results match the SpinTransform",
-          "[viewer][threads]") {
+TEST_CASE(
+    "SpinPaintWorker: 2000 curvature requests, cancels, a polling reader: results match the SpinTransform",
+    "[viewer][threads]") {
   const Mesh rest = capsule();
   std::vector<Eigen::VectorXd> rhos;
   std::vector<Eigen::MatrixXd> references;
@@ -271,7 +282,8 @@ TEST_CASE("SpinPaintWorker: 2000 curvature requests, cancels, a polling reader: 
     rhos.push_back(std::move(rho));
   }
   for (std::size_t a = 0; a < rhos.size(); ++a)
-    for (std::size_t b = a + 1; b < rhos.size(); ++b) REQUIRE(max_abs_diff(references[a], references[b]) > 1e-3);
+    for (std::size_t b = a + 1; b < rhos.size(); ++b)
+      REQUIRE(max_abs_diff(references[a], references[b]) > 1e-3);
 
   SpinPaintWorker w(rest);
   constexpr int kRequests = 2000;
