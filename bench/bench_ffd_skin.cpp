@@ -9,6 +9,8 @@
 //                   factorization of much larger fill; not run by default), against MVC on the same
 //                   points (vs_mvc), with the reproduction error and its stated bound.
 //   BM_mvc_bind     mean value coordinates alone (10k and 100k points).
+//   BM_skin_pose_small  LBS of a 4.6k-vertex two-bone arm against libigl's formulation (dense weight
+//                   matrix times stacked bone matrices, vs_matrix), measured in the same run.
 #include <benchmark/benchmark.h>
 
 #include <Eigen/Core>
@@ -155,6 +157,65 @@ void BM_skin_pose(benchmark::State& state) {
   state.SetLabel(names[state.range(0)]);
 }
 BENCHMARK(BM_skin_pose)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->MinTime(1.0)->UseRealTime();
+
+/// LBS of a small mesh (issue 20: per-call overhead): a 4,608-vertex arm (tube 72 × 64, length 6) with
+/// two bones, upper arm and forearm, blended over the elbow (at most 2 influences per vertex). The
+/// baseline, measured in the same run (vs_matrix), is libigl's formulation of LBS (igl::lbs_matrix):
+/// a dense n × 4B matrix M of weights times homogeneous rest coordinates, built once, and one
+/// product V = M T per pose with T the 4B × 3 stack of the bones' transposed affine matrices.
+void BM_skin_pose_small(benchmark::State& state) {
+  static const Mesh arm = tube(0.5, 6.0, 72, 64);
+  const Eigen::Index n = arm.V.rows();
+  const std::vector<Bone> bones = {{"upper", -1, {0, 0, 0}, {0, 0, 3}}, {"fore", 0, {0, 0, 3}, {0, 0, 6}}};
+  std::vector<Eigen::Triplet<double>> t;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double u = std::clamp((arm.V(i, 2) - 2.5) / 1.0, 0.0, 1.0), w1 = u * u * (3 - 2 * u);
+    if (w1 < 1) t.emplace_back(i, 0, 1 - w1);
+    if (w1 > 0) t.emplace_back(i, 1, w1);
+  }
+  Eigen::SparseMatrix<double> W(n, 2);
+  W.setFromTriplets(t.begin(), t.end());
+  std::mt19937 rng(3);
+  const std::vector<ga::Mot> frames = {random_motor(rng, 30, 0.2), random_motor(rng, 90, 0.2)};
+  SkinDeformer d = SkinDeformer::bind(arm, bones, W, {SkinDeformer::Blend::LBS});
+  Eigen::MatrixXd V;
+  d.pose(frames, V);
+  // libigl's formulation: M(i, 4j + c) = W(i, j) [p_i; 1](c); T rows 4j..4j+3 = (T_j)^T with T_j the
+  // 3 × 4 affine matrix of bone j's motion (frame × rest⁻¹, as SkinDeformer composes it).
+  const Eigen::MatrixXd Wd(W);
+  Eigen::MatrixXd M(n, 8);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (int j = 0; j < 2; ++j) {
+      M.block<1, 3>(i, 4 * j) = Wd(i, j) * arm.V.row(i);
+      M(i, 4 * j + 3) = Wd(i, j);
+    }
+  Eigen::MatrixXd T(8, 3), Vb(n, 3);
+  auto matrix_pose = [&] {
+    for (int j = 0; j < 2; ++j)
+      T.block<4, 3>(4 * j, 0) = ga::to_isometry(ga::normalize(frames[j] * ga::reverse(bones[j].rest)))
+                                    .matrix()
+                                    .topRows<3>()
+                                    .transpose();
+    Vb.noalias() = M * T;
+  };
+  matrix_pose();
+  const double base_ms = median_ms([&] {
+                           for (int r = 0; r < 100; ++r) matrix_pose();
+                         }) /
+                         100;
+  double total = 0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    d.pose(frames, V);
+    benchmark::DoNotOptimize(V.data());
+    total += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  }
+  state.counters["vertices"] = static_cast<double>(n);
+  state.counters["matrix_ms"] = base_ms;
+  state.counters["vs_matrix"] = total / state.iterations() / base_ms;
+  state.counters["max_diff"] = (V - Vb).cwiseAbs().maxCoeff();  // the two formulations agree
+}
+BENCHMARK(BM_skin_pose_small)->Unit(benchmark::kMicrosecond)->MinTime(1.0)->UseRealTime();
 
 struct CageSetup {
   Mesh cage, inner, inner100k;

@@ -239,6 +239,33 @@ SkinDeformer SkinDeformer::bind_rows(const Mesh& rest, std::span<const Bone> bon
     for (std::size_t s = r.size(); s < 4; ++s) d.inf_[i].bone[s] = r[0].first;  // weight 0, a valid bone
   }
   const std::size_t B = bones.size();
+  if (options.blend == Blend::LBS || options.blend == Blend::Linear) {
+    const Eigen::Index blocks = (n + kLbsBlock - 1) / kLbsBlock;
+    std::vector<int> slot(B, -1);  // bone -> its entry in the current block
+    d.lbs_begin_.assign(1, 0);
+    for (Eigen::Index k = 0; k < blocks; ++k) {
+      const std::size_t first = d.lbs_bones_.size();
+      const Eigen::Index s0 = k * kLbsBlock, len = std::min(kLbsBlock, n - s0);
+      for (Eigen::Index i = s0; i < s0 + len; ++i)
+        for (int s = 0; s < 4; ++s) {
+          const Influence& f = d.inf_[i];
+          if (f.w[s] == 0.0) continue;
+          int& e = slot[f.bone[s]];
+          if (e < 0) {
+            e = static_cast<int>(d.lbs_bones_.size());
+            d.lbs_bones_.push_back(f.bone[s]);
+            d.lbs_w_.resize(d.lbs_bones_.size() * kLbsBlock, 0.0);
+          }
+          d.lbs_w_[static_cast<std::size_t>(e) * kLbsBlock + static_cast<std::size_t>(i - s0)] = f.w[s];
+        }
+      for (std::size_t e = first; e < d.lbs_bones_.size(); ++e) slot[d.lbs_bones_[e]] = -1;
+      d.lbs_begin_.push_back(d.lbs_bones_.size());
+      int pivot = d.inf_[s0].bone[0];  // DLB: one pivot bone for the whole block, or -1
+      for (Eigen::Index i = s0; i < s0 + len; ++i)
+        if (d.inf_[i].bone[0] != pivot) pivot = -1;
+      d.lbs_pivot_.push_back(pivot);
+    }
+  }
   d.motions_.resize(B);
   d.matrices_.resize(B);
   d.logs_.resize(options.blend == Blend::PivotLog ? B * B : B);
@@ -285,35 +312,71 @@ void SkinDeformer::pose(std::span<const ga::Mot> frames, Eigen::MatrixXd& V_out)
   const Influence* inf = inf_.data();
   const Eigen::MatrixXd& P = P_;
   switch (options_.blend) {
-    case Blend::LBS: {
+    case Blend::LBS: {  // v_i = Σ_j w_ij T_j [p_i; 1], bone by bone over blocks of vertices
       const Eigen::Matrix<double, 3, 4>* T = matrices_.data();
+      const Eigen::Index blocks = (n + kLbsBlock - 1) / kLbsBlock;
 #pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend))
-      for (Eigen::Index i = 0; i < n; ++i) {
-        const Influence& f = inf[i];
-        const Eigen::Matrix<double, 3, 4> M =
-            f.w[0] * T[f.bone[0]] + f.w[1] * T[f.bone[1]] + f.w[2] * T[f.bone[2]] + f.w[3] * T[f.bone[3]];
-        const Eigen::Vector3d q = M.leftCols<3>() * Eigen::Vector3d(P(i, 0), P(i, 1), P(i, 2)) + M.col(3);
-        V_out(i, 0) = q.x(), V_out(i, 1) = q.y(), V_out(i, 2) = q.z();
+      for (Eigen::Index k = 0; k < blocks; ++k) {
+        const Eigen::Index s0 = k * kLbsBlock, len = std::min(kLbsBlock, n - s0);
+        const auto x = P.col(0).segment(s0, len).array(), y = P.col(1).segment(s0, len).array(),
+                   z = P.col(2).segment(s0, len).array();
+        auto vx = V_out.col(0).segment(s0, len).array(), vy = V_out.col(1).segment(s0, len).array(),
+             vz = V_out.col(2).segment(s0, len).array();
+        vx.setZero(), vy.setZero(), vz.setZero();
+        for (std::size_t e = lbs_begin_[k]; e < lbs_begin_[k + 1]; ++e) {
+          const Eigen::Matrix<double, 3, 4>& M = T[lbs_bones_[e]];
+          const Eigen::Map<const Eigen::ArrayXd> w(lbs_w_.data() + static_cast<Eigen::Index>(e) * kLbsBlock,
+                                                   len);
+          vx += w * (M(0, 0) * x + M(0, 1) * y + M(0, 2) * z + M(0, 3));
+          vy += w * (M(1, 0) * x + M(1, 1) * y + M(1, 2) * z + M(1, 3));
+          vz += w * (M(2, 0) * x + M(2, 1) * y + M(2, 2) * z + M(2, 3));
+        }
       }
       break;
     }
-    case Blend::Linear: {
+    case Blend::Linear: {  // Σ_j s_pj w_ij K_j bone by bone over blocks of vertices, then dlb_point's formula
       const ga::Mot* K = motions_.data();
       const double* S = signs_.data();
+      const Eigen::Index blocks = (n + kLbsBlock - 1) / kLbsBlock;
       bool cancelled = false;
 #pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend)) \
     reduction(||                                                                         \
               : cancelled)
-      for (Eigen::Index i = 0; i < n; ++i) {
-        const Influence& f = inf[i];
-        const double* sp = S + static_cast<Eigen::Index>(f.bone[0]) * B;
-        using A8 = Eigen::Array<double, 8, 1>;  // one motor per 8-lane register
-        A8 sum = f.w[0] * Eigen::Map<const A8>(K[f.bone[0]].data());
-        for (int s = 1; s < 4; ++s)
-          sum += (sp[f.bone[s]] * f.w[s]) * Eigen::Map<const A8>(K[f.bone[s]].data());
-        const Eigen::Vector3d q = detail::dlb_point(sum.data(), Eigen::Vector3d(P(i, 0), P(i, 1), P(i, 2)));
-        cancelled = cancelled || !q.allFinite();
-        V_out(i, 0) = q.x(), V_out(i, 1) = q.y(), V_out(i, 2) = q.z();
+      for (Eigen::Index k = 0; k < blocks; ++k) {
+        using A = Eigen::Array<double, Eigen::Dynamic, 1, 0, kLbsBlock, 1>;  // on the stack
+        const Eigen::Index s0 = k * kLbsBlock, len = std::min(kLbsBlock, n - s0);
+        std::array<A, 8> m;
+        for (A& c : m) c.setZero(len);
+        A ws(len);
+        for (std::size_t e = lbs_begin_[k]; e < lbs_begin_[k + 1]; ++e) {
+          const int j = lbs_bones_[e];
+          const double* w = lbs_w_.data() + static_cast<Eigen::Index>(e) * kLbsBlock;
+          const double* kj = K[j].data();
+          if (const int p = lbs_pivot_[k]; p >= 0) {  // one pivot bone p for the block: one sign s_pj
+            const Eigen::Map<const Eigen::ArrayXd> wm(w, len);
+            const double sj = S[static_cast<Eigen::Index>(p) * B + j];
+            for (int c = 0; c < 8; ++c) m[c] += (sj * kj[c]) * wm;
+            continue;
+          }
+          for (Eigen::Index i = 0; i < len; ++i)  // s_pj: the sign of K_j against the vertex's pivot bone p
+            ws[i] = w[i] * S[static_cast<Eigen::Index>(inf[s0 + i].bone[0]) * B + j];
+          for (int c = 0; c < 8; ++c) m[c] += kj[c] * ws;
+        }
+        // dlb_point (dlb_point.hpp), across the block
+        const auto px = P.col(0).segment(s0, len).array(), py = P.col(1).segment(s0, len).array(),
+                   pz = P.col(2).segment(s0, len).array();
+        const A& w = m[0];
+        const A vx = -m[3], vy = -m[2], vz = -m[1], d0 = -m[7], dx = -m[4], dy = -m[5], dz = -m[6];
+        const A s2 = 2.0 / (w * w + vx * vx + vy * vy + vz * vz);
+        const A ax = vy * pz - vz * py, ay = vz * px - vx * pz, az = vx * py - vy * px;
+        const A bx = vy * az - vz * ay, by = vz * ax - vx * az, bz = vx * ay - vy * ax;
+        const A cx = vy * dz - vz * dy, cy = vz * dx - vx * dz, cz = vx * dy - vy * dx;
+        auto ox = V_out.col(0).segment(s0, len).array(), oy = V_out.col(1).segment(s0, len).array(),
+             oz = V_out.col(2).segment(s0, len).array();
+        ox = px + s2 * (w * ax + bx + w * dx - d0 * vx + cx);
+        oy = py + s2 * (w * ay + by + w * dy - d0 * vy + cy);
+        oz = pz + s2 * (w * az + bz + w * dz - d0 * vz + cz);
+        cancelled = cancelled || !(ox.isFinite().all() && oy.isFinite().all() && oz.isFinite().all());
       }
       if (cancelled)
         throw numerical_error("SkinDeformer: the linear blend of the bone motors cancels at a vertex");

@@ -131,6 +131,53 @@ TEST_CASE("skin: at most 4 influences, renormalized, fast blends equal ga::blend
   }
 }
 
+TEST_CASE("skin: LBS and DLB equal their per-vertex definitions at every vertex, across blocks and threads",
+          "[skin]") {
+  // 10,100 vertices: above the parallel threshold (parallel::kMotorBlend), 79 blocks of 128 vertices
+  // (SkinDeformer's LBS/DLB panels), the last one partial; 6 bones, 4 kept influences each with a
+  // different pivot bone from vertex to vertex, so blocks mix bones and signs.
+  const Mesh m = torus(2.0, 0.6, 101, 100);
+  REQUIRE(m.V.rows() % 128 != 0);
+  std::mt19937 rng(11);
+  const auto bones = six_bones();
+  const MatrixXd W = random_weights(m.V.rows(), 6, rng);
+  std::vector<ga::Mot> frames;
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (const Bone& b : bones)
+    frames.push_back(rigid({u(rng), u(rng), u(rng)}, 170 * u(rng), {u(rng), u(rng), u(rng)}) * b.rest);
+  {
+    SkinDeformer d = SkinDeformer::bind(m, bones, W, {SkinDeformer::Blend::LBS});
+    const MatrixXd K = MatrixXd(d.weights());
+    std::vector<Eigen::Isometry3d> T;
+    for (std::size_t j = 0; j < bones.size(); ++j)
+      T.push_back(ga::to_isometry(ga::normalize(frames[j] * ga::reverse(bones[j].rest))));
+    MatrixXd V;
+    d.pose(frames, V);
+    double err = 0.0;
+    for (Index i = 0; i < m.V.rows(); ++i) {
+      Vector3d v = Vector3d::Zero();
+      for (int j = 0; j < 6; ++j) v += K(i, j) * (T[j] * Vector3d(m.V.row(i)));
+      err = std::max(err, (V.row(i).transpose() - v).norm());
+    }
+    CHECK(err < 1e-12);
+  }
+  // DLB twice: with the random weights every block mixes pivot bones (a sign per vertex); with one
+  // dominant bone per run of 300 consecutive vertices most blocks share their pivot (one sign per bone).
+  MatrixXd W_runs = 0.2 * W;
+  for (Index i = 0; i < m.V.rows(); ++i) W_runs(i, (i / 300) % 6) = 1.0;
+  for (const MatrixXd* weights : std::initializer_list<const MatrixXd*>{&W, &W_runs}) {
+    SkinDeformer d = SkinDeformer::bind(m, bones, *weights, {SkinDeformer::Blend::Linear});
+    MatrixXd V;
+    d.pose(frames, V);
+    double err = 0.0;
+    for (Index i = 0; i < m.V.rows(); ++i)
+      err = std::max(
+          err,
+          (V.row(i).transpose() - ga::transform(d.vertex_motor(i, frames), m.V.row(i).transpose())).norm());
+    CHECK(err < 1e-12);
+  }
+}
+
 TEST_CASE("skin: a tube twisted 180 degrees keeps its volume with DLB and Log, not with LBS", "[skin]") {
   const Mesh m = tube(1.0, 10.0, 101, 48, true);
   const auto bones = arm();

@@ -117,6 +117,16 @@ class SkinDeformer {
   std::vector<Bone> bones_;
   Eigen::MatrixXd P_;
   std::vector<Influence> inf_;
+  // LBS, by blocks of kLbsBlock consecutive vertices: the bones that weigh on block k are
+  // lbs_bones_[lbs_begin_[k] .. lbs_begin_[k+1]), and entry e holds those vertices' weights for bone
+  // lbs_bones_[e] at lbs_w_[e·kLbsBlock ...] (0 where a vertex has no influence of that bone). pose()
+  // then runs bone by bone over a block, across its vertices: contiguous, vectorised arithmetic with no
+  // per-vertex gather (docs/performance.md, "LBS on small meshes").
+  static constexpr Eigen::Index kLbsBlock = 128;
+  std::vector<int> lbs_bones_;
+  std::vector<std::size_t> lbs_begin_;
+  std::vector<double> lbs_w_;
+  std::vector<int> lbs_pivot_;  // DLB: the pivot bone (largest weight) shared by block k's vertices, or -1
   // per-pose scratch
   std::vector<ga::Mot> motions_;                       // K_j
   std::vector<Eigen::Matrix<double, 3, 4>> matrices_;  // LBS
