@@ -70,6 +70,17 @@ std::vector<Bone> six_bones() {
   return b;
 }
 
+/// One random rigid frame per bone (axis and translation components in [-1, 1], angle up to
+/// max_degrees), composed with the bone's rest frame.
+std::vector<ga::Mot> random_frames(const std::vector<Bone>& bones, double max_degrees, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<ga::Mot> frames;
+  for (const Bone& b : bones)
+    frames.push_back(rigid({u(rng), u(rng), u(rng)}, max_degrees * u(rng), {u(rng), u(rng), u(rng)}) *
+                     b.rest);
+  return frames;
+}
+
 const SkinDeformer::Blend kBlends[] = {SkinDeformer::Blend::LBS, SkinDeformer::Blend::Linear,
                                        SkinDeformer::Blend::Log, SkinDeformer::Blend::PivotLog};
 
@@ -101,10 +112,7 @@ TEST_CASE("skin: at most 4 influences, renormalized, fast blends equal ga::blend
   std::mt19937 rng(8);
   const auto bones = six_bones();
   const MatrixXd W = random_weights(m.V.rows(), 6, rng);
-  std::vector<ga::Mot> frames;
-  std::uniform_real_distribution<double> u(-1, 1);
-  for (const Bone& b : bones)
-    frames.push_back(rigid({u(rng), u(rng), u(rng)}, 120 * u(rng), {u(rng), u(rng), u(rng)}) * b.rest);
+  const std::vector<ga::Mot> frames = random_frames(bones, 120, rng);
   for (auto blend : kBlends) {
     SkinDeformer d = SkinDeformer::bind(m, bones, W, {blend});
     const Eigen::SparseMatrix<double> K = d.weights();
@@ -141,10 +149,7 @@ TEST_CASE("skin: LBS and DLB equal their per-vertex definitions at every vertex,
   std::mt19937 rng(11);
   const auto bones = six_bones();
   const MatrixXd W = random_weights(m.V.rows(), 6, rng);
-  std::vector<ga::Mot> frames;
-  std::uniform_real_distribution<double> u(-1, 1);
-  for (const Bone& b : bones)
-    frames.push_back(rigid({u(rng), u(rng), u(rng)}, 170 * u(rng), {u(rng), u(rng), u(rng)}) * b.rest);
+  const std::vector<ga::Mot> frames = random_frames(bones, 170, rng);
   {
     SkinDeformer d = SkinDeformer::bind(m, bones, W, {SkinDeformer::Blend::LBS});
     const MatrixXd K = MatrixXd(d.weights());
