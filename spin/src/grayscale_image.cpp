@@ -54,7 +54,9 @@ constexpr double kMaxPixelsPerByte = 8.0 * 1032.0;
 
 /// For a PNG (by its signature): the first chunk whose declared length runs past the end of the file, as
 /// a message, or "" when every chunk fits (or the file is not a PNG; stb reports other defects).
-std::string png_chunk_overrun(const std::string& b) {
+/// Removes empty IDAT chunks from b: valid PNG, but an empty first IDAT makes stb copy 0 bytes to its
+/// still-null buffer (memcpy(NULL, ...), undefined behaviour; found by fuzz_image).
+std::string png_chunk_overrun(std::string& b) {
   static const char kSignature[8] = {'\x89', 'P', 'N', 'G', '\r', '\n', '\x1a', '\n'};
   if (b.size() < 8 || b.compare(0, 8, kSignature, 8) != 0) return "";
   for (std::size_t at = 8; b.size() - at >= 8;) {
@@ -66,6 +68,10 @@ std::string png_chunk_overrun(const std::string& b) {
     if (length > left)
       return "PNG chunk '" + b.substr(at + 4, 4) + "' at byte " + std::to_string(at) + " declares " +
              std::to_string(length) + " bytes, the file has " + std::to_string(left) + " left";
+    if (length == 0 && b.compare(at + 4, 4, "IDAT") == 0) {
+      b.erase(at, 8 + std::min<std::size_t>(4, left));  // length, type and CRC
+      continue;
+    }
     at += 8 + length + std::min<std::uint64_t>(4, left - length);  // data and CRC
   }
   return "";
@@ -77,7 +83,7 @@ GrayscaleImage read_grayscale_image(const std::filesystem::path& path) {
   const std::string who = "cannot read image '" + path.string() + "': ";
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(who + "cannot open the file");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw Error(who + "read error");
   if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     throw Error(who + "larger than 2 GB");
