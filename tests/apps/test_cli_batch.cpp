@@ -14,6 +14,8 @@
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
 
+namespace test_cli_batch {
+
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -83,3 +85,5 @@ TEST_CASE("batch runs one process per mesh, isolates failures and resumes", "[cl
             .code == 2);
   fs::remove_all(dir);
 }
+
+}  // namespace test_cli_batch

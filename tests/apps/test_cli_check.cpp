@@ -14,6 +14,8 @@
 
 #include "shared_data.hpp"
 
+namespace test_cli_check {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -150,3 +152,5 @@ TEST_CASE("check: the table marks defects, usage errors exit 2", "[cli][check]")
   CHECK_THAT(ok.out, Catch::Contains("ok: no defects (closed, one component)"));
   CHECK(run_cli("check").code == 2);
 }
+
+}  // namespace test_cli_check

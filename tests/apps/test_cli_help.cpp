@@ -11,6 +11,8 @@
 #include <sstream>
 #include <string>
 
+namespace test_cli_help {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -130,3 +132,5 @@ TEST_CASE("spinmotor demo: every use runs on the embedded defaults and its figur
     CHECK(fs::exists(out / f));
   fs::remove_all(out);
 }
+
+}  // namespace test_cli_help

@@ -16,6 +16,8 @@
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
 
+namespace test_cli_metrics {
+
 using namespace spinmotor;
 namespace fs = std::filesystem;
 
@@ -141,3 +143,5 @@ TEST_CASE("metrics rejects meshes of different connectivity with exit code 2", "
       run_cli(tmp.path, "metrics " + tmp.file("a.off") + " " + tmp.file("a.off") + " --align affine");
   CHECK(bad_align.code == 2);
 }
+
+}  // namespace test_cli_metrics

@@ -18,6 +18,8 @@
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
 
+namespace test_fair_cli {
+
 using namespace spinmotor;
 namespace fs = std::filesystem;
 using spinmotor_test::Run;
@@ -75,3 +77,5 @@ TEST_CASE("fair, extrude, willmore and the Ye spectra from the CLI", "[cli][lefo
   CHECK(r.err.find("same connectivity") != std::string::npos);
   for (const char* f : {"bad1.obj", "bad2.obj", "bad3.obj"}) CHECK_FALSE(fs::exists(dir.path / f));
 }
+
+}  // namespace test_fair_cli

@@ -17,6 +17,8 @@
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
 
+namespace test_flow_cli {
+
 using namespace spinmotor;
 namespace fs = std::filesystem;
 using spinmotor_test::Run;
@@ -90,3 +92,5 @@ TEST_CASE("flow: bad input exits with code 2 and writes nothing", "[cli][flow][e
     CHECK_FALSE(fs::exists(tmp.path / "o.obj"));
   }
 }
+
+}  // namespace test_flow_cli

@@ -19,6 +19,8 @@
 #include "spinmotor/mesh/metrics/distances.hpp"
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
 
+namespace test_snap_cli {
+
 using namespace spinmotor;
 namespace fs = std::filesystem;
 using spinmotor_test::Run;
@@ -132,3 +134,5 @@ TEST_CASE("snap --mode shape: an exact spin transformation comes back, and an op
   CHECK(o.code == 2);
   CHECK(!fs::exists(tmp.path / "open.obj"));
 }
+
+}  // namespace test_snap_cli

@@ -17,6 +17,8 @@
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/metrics/distances.hpp"
 
+namespace test_spin_cli {
+
 using namespace spinmotor;
 namespace fs = std::filesystem;
 using spinmotor_test::Run;
@@ -143,3 +145,5 @@ TEST_CASE("spectrum --operator crane on the unit sphere", "[cli][spectrum]") {
   const Run bad = run_cli(tmp.path, "spectrum " + tmp.file("sphere.obj") + " --operator ye -k 4");
   CHECK(bad.code == 2);
 }
+
+}  // namespace test_spin_cli

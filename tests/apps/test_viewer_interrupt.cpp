@@ -13,6 +13,8 @@
 
 #include "cli_support.hpp"
 
+namespace test_viewer_interrupt {
+
 using nlohmann::json;
 namespace fs = std::filesystem;
 using spinmotor_test::TempDir;
@@ -74,3 +76,5 @@ TEST_CASE("spinmotor-viewer --frames stopped by SIGTERM: exit 143, no screenshot
   interrupt_and_check(SIGTERM);
 }
 #endif
+
+}  // namespace test_viewer_interrupt

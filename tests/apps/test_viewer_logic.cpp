@@ -41,6 +41,8 @@
 #pragma GCC diagnostic pop
 #endif
 
+namespace test_viewer_logic {
+
 using namespace spinmotor;
 using namespace spinmotor::viewer;
 using Eigen::Vector3d;
@@ -559,3 +561,5 @@ TEST_CASE("spinmotor-viewer headless: FFD lattice gizmo, IK target drag, box sel
   std::filesystem::remove_all(dir);
 }
 #endif
+
+}  // namespace test_viewer_logic

@@ -27,6 +27,8 @@
 #include "spinmotor/viewer/session.hpp"
 #include "spinmotor/viewer/snap_worker.hpp"
 
+namespace test_viewer_rig {
+
 using namespace spinmotor;
 using namespace spinmotor::viewer;
 using Eigen::Vector3d;
@@ -260,3 +262,5 @@ TEST_CASE("spinmotor-viewer headless on a .glb: skeleton, animation time, per-fr
   CHECK(WEXITSTATUS(status) == 2);
 }
 #endif
+
+}  // namespace test_viewer_rig

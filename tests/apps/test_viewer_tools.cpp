@@ -21,6 +21,8 @@
 #include "spinmotor/viewer/selection.hpp"
 #include "spinmotor/viewer/session.hpp"
 
+namespace test_viewer_tools {
+
 using namespace spinmotor;
 using namespace spinmotor::viewer;
 using Eigen::Vector2d;
@@ -377,3 +379,5 @@ TEST_CASE("the IK target is a control: dragging its gizmo re-solves FABRIK and t
   std::filesystem::remove(out);
   CHECK((centroid(t.posed(), tip) - target1).norm() < 0.25 / 100);
 }
+
+}  // namespace test_viewer_tools

@@ -35,6 +35,8 @@
 #include "spinmotor/viewer/latest_job_worker.hpp"
 #include "spinmotor/viewer/snap_worker.hpp"
 
+namespace test_viewer_workers {
+
 using namespace spinmotor;
 using namespace spinmotor::viewer;
 
@@ -296,3 +298,5 @@ TEST_CASE(
       });
   require_accounted(t, kRequests);
 }
+
+}  // namespace test_viewer_workers

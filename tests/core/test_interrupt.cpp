@@ -6,6 +6,8 @@
 
 #include "spinmotor/core/interrupt.hpp"
 
+namespace test_interrupt {
+
 using namespace spinmotor;
 
 namespace {
@@ -65,3 +67,5 @@ TEST_CASE("InterruptGuard restores the previous handlers and clears the flag of 
   sigaction(SIGINT, &saved_int, nullptr);
   sigaction(SIGTERM, &saved_term, nullptr);
 }
+
+}  // namespace test_interrupt

@@ -6,6 +6,8 @@
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/core/memory_budget.hpp"
 
+namespace test_memory_budget {
+
 using namespace spinmotor;
 
 namespace {
@@ -67,3 +69,5 @@ TEST_CASE("memory limit: the available memory by default, set and reset, refusal
   CHECK(d.find("everything needs an estimated") == 0);
   CHECK(d.find("(the available memory; --max-memory or set_memory_limit sets it)") != std::string::npos);
 }
+
+}  // namespace test_memory_budget

@@ -15,6 +15,8 @@
 #include "spinmotor/mesh/metrics/edge_distortion.hpp"
 #include "spinmotor/mesh/topology.hpp"
 
+namespace test_arap {
+
 using namespace spinmotor;
 
 namespace {
@@ -514,3 +516,5 @@ TEST_CASE("ARAP: the previous initial guess warm-starts a sequence of poses", "[
   INFO("iterations over 5 frames: rest " << iterations[0] << ", previous " << iterations[1]);
   CHECK(iterations[1] < iterations[0]);
 }
+
+}  // namespace test_arap

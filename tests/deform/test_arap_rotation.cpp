@@ -5,6 +5,8 @@
 
 #include "spinmotor/deform/arap_rotation.hpp"
 
+namespace test_arap_rotation {
+
 using namespace spinmotor;
 
 namespace {
@@ -185,3 +187,5 @@ TEST_CASE("Horn's rotor: reflection ties, zero covariance, and warm-started exac
   }
   CHECK(fast == 1000);
 }
+
+}  // namespace test_arap_rotation

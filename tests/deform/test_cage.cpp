@@ -16,6 +16,8 @@
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/generators.hpp"
 
+namespace test_cage {
+
 using namespace spinmotor;
 using Eigen::Index;
 using Eigen::MatrixXd;
@@ -186,3 +188,5 @@ TEST_CASE("HC: a grid that cannot fit is refused at once with the estimate and t
   // A grid that fits under the same limit runs (grid 16: a few MB).
   CHECK(harmonic_cage_coordinates(cage.V, cage.F, inner.V, 16).rows() == inner.V.rows());
 }
+
+}  // namespace test_cage

@@ -12,6 +12,8 @@
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/generators.hpp"
 
+namespace test_deform_surface_harmonic {
+
 using namespace spinmotor;
 using Eigen::Index;
 using Eigen::MatrixXd;
@@ -180,3 +182,5 @@ TEST_CASE("pose rejects wrong motor counts and non-unit motors", "[deform][surfa
   bad[2] = ga::Mot(std::nan(""), 0, 0, 0, 0, 0, 0, 0);
   CHECK_THROWS_WITH(d.pose(bad, V), Catch::Contains("motor 2 is not finite"));
 }
+
+}  // namespace test_deform_surface_harmonic

@@ -17,6 +17,8 @@
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/metrics/distances.hpp"
 
+namespace test_deformer_shape {
+
 using namespace spinmotor;
 using Eigen::Vector3d;
 
@@ -204,3 +206,5 @@ TEST_CASE("option tables: every name parses back to its value, unknown names lis
                     "x: unknown blend 'lgo' (one of: log, pivot-log, dlb)");
   CHECK_THROWS_WITH(option_name(static_cast<ArapEnergy>(7)), Catch::Contains("energy: value 7 has no name"));
 }
+
+}  // namespace test_deformer_shape

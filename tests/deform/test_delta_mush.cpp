@@ -51,6 +51,8 @@ extern "C" void* malloc(std::size_t n) {
 }
 #endif
 
+namespace test_delta_mush {
+
 using namespace spinmotor;
 using Eigen::Index;
 using Eigen::MatrixXd;
@@ -678,3 +680,5 @@ TEST_CASE("delta mush: bend 90 degrees for joint bands of 0.05 to 3 (printed tab
     rep("DDM");
   }
 }
+
+}  // namespace test_delta_mush

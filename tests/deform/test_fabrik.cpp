@@ -12,6 +12,8 @@
 #include "spinmotor/deform/harmonic_field.hpp"
 #include "spinmotor/mesh/generators.hpp"
 
+namespace test_fabrik {
+
 using namespace spinmotor;
 using Eigen::Index;
 using Eigen::MatrixXd;
@@ -143,3 +145,5 @@ TEST_CASE("joint parameters match the harmonic parameter on a tube", "[fabrik][c
   const VectorXd p = chain_parameters(m.V, lambda, chain);
   for (int i = 0; i < 5; ++i) CHECK(p[i] == Approx(rings[i] / 40.0).margin(1e-9));
 }
+
+}  // namespace test_fabrik

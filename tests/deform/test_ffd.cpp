@@ -12,6 +12,8 @@
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/generators.hpp"
 
+namespace test_ffd {
+
 using namespace spinmotor;
 using Eigen::Index;
 using Eigen::MatrixXd;
@@ -211,3 +213,5 @@ TEST_CASE("FFD: bad input throws Error naming it", "[ffd]") {
   CHECK_THROWS_WITH(d.pose(M, V), Catch::Contains("motor 17"));
   CHECK_THROWS_WITH(d.pose_points(d.control_points(), V), Catch::Contains("position mode"));
 }
+
+}  // namespace test_ffd

@@ -9,6 +9,8 @@
 #include "spinmotor/deform/harmonic_field.hpp"
 #include "spinmotor/mesh/generators.hpp"
 
+namespace test_harmonic {
+
 using namespace spinmotor;
 using Eigen::Index;
 using Eigen::MatrixXd;
@@ -155,3 +157,5 @@ TEST_CASE("harmonic fields reject bad handles and unconstrained components", "[h
     }
   }
 }
+
+}  // namespace test_harmonic

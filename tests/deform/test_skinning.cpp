@@ -16,6 +16,8 @@
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/generators.hpp"
 
+namespace test_skinning {
+
 using namespace spinmotor;
 using Eigen::Index;
 using Eigen::MatrixXd;
@@ -279,3 +281,5 @@ TEST_CASE("skin: bind errors name the vertex or bone", "[skin]") {
   bad[0] = 3.0;
   CHECK_THROWS_WITH(d.pose(std::vector<ga::Mot>{kId, bad}, V), Catch::Contains("'upper'"));
 }
+
+}  // namespace test_skinning

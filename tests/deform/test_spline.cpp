@@ -12,6 +12,8 @@
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/generators.hpp"
 
+namespace test_spline {
+
 using namespace spinmotor;
 using Eigen::Index;
 using Eigen::MatrixXd;
@@ -203,3 +205,5 @@ TEST_CASE("spline deformer rejects bad bases and handles", "[spline][errors]") {
   const std::vector<Handle> one = {ring("from", 0)};
   CHECK_THROWS_WITH(SplineDeformer::bind(m, one, {}), Catch::Contains("exactly two handles"));
 }
+
+}  // namespace test_spline

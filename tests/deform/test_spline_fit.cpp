@@ -9,6 +9,8 @@
 #include "spinmotor/deform/bspline_fit.hpp"
 #include "spinmotor/deform/spline_basis.hpp"
 
+namespace test_spline_fit {
+
 using namespace spinmotor;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
@@ -124,3 +126,5 @@ TEST_CASE("B-spline fit rejects bad input", "[spline][fit][errors]") {
   CHECK_THROWS_WITH(fit_bspline_motors(Q, inner, {.interpolate_ends = true}),
                     Catch::Contains("λ = 0 and λ = 1"));
 }
+
+}  // namespace test_spline_fit

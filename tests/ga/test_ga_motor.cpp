@@ -8,6 +8,8 @@
 #include <spinmotor/ga.hpp>
 #include <vector>
 
+namespace test_ga_motor {
+
 using namespace spinmotor::ga;
 using Eigen::Vector3d;
 
@@ -366,3 +368,5 @@ TEST_CASE("plane, sphere and line constructors", "[ga][constructors]") {
   CHECK_THROWS_AS(plane(Vector3d::Zero(), 1.0), spinmotor::Error);
   CHECK_THROWS_AS(line(Vector3d::Zero(), Vector3d::Zero()), spinmotor::Error);
 }
+
+}  // namespace test_ga_motor

@@ -9,6 +9,8 @@
 #include <tuple>
 #include <vector>
 
+namespace test_ga_products {
+
 using namespace spinmotor::ga;
 
 namespace {
@@ -321,3 +323,5 @@ TEST_CASE("Rot is the quaternion algebra: i = e32, j = e13, k = e21, and agrees 
   CHECK_THROWS_AS(rotor(Eigen::Vector3d::Zero(), 1.0), spinmotor::Error);
   CHECK(rotor(Eigen::Vector3d::Zero(), 0.0) == one);
 }
+
+}  // namespace test_ga_products

@@ -17,6 +17,8 @@
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/mass_matrix.hpp"
 
+namespace test_cholesky {
+
 using namespace spinmotor;
 using cd = std::complex<double>;
 
@@ -220,3 +222,5 @@ TEST_CASE("Cholesky: a factor over the memory limit is refused after the symboli
   set_memory_limit(0);
   CHECK_NOTHROW(over.compute(A));
 }
+
+}  // namespace test_cholesky

@@ -11,6 +11,8 @@
 #include "spinmotor/linalg/cholesky_solver.hpp"
 #include "spinmotor/linalg/smallest_eigenpair.hpp"
 
+namespace test_smallest_eigenpair {
+
 using namespace spinmotor;
 using cd = std::complex<double>;
 
@@ -117,3 +119,5 @@ TEST_CASE("smallest_eigenpair: a solve that returns zero is reported", "[solvers
   CHECK_THROWS_WITH(smallest_eigenpair<double>(K, nullptr, zero, 0.0, o, wrong),
                     Catch::Contains("same size"));
 }
+
+}  // namespace test_smallest_eigenpair

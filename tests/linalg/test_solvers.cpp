@@ -19,6 +19,8 @@
 #include "spinmotor/mesh/mean_value_laplacian.hpp"
 #include "spinmotor/mesh/topology.hpp"
 
+namespace test_solvers {
+
 using namespace spinmotor;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
@@ -420,3 +422,5 @@ TEST_CASE("Dirichlet: a given free order gives the same solution, solve_free and
   lu.bind(L, b, DirichletSolver::Kind::LU);
   CHECK_THROWS_WITH(lu.cholesky(), Catch::Contains("Kind::SPD"));
 }
+
+}  // namespace test_solvers

@@ -10,6 +10,8 @@
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/topology.hpp"
 
+namespace test_generators {
+
 using namespace spinmotor;
 using Catch::Matchers::WithinAbs;
 using Catch::Matchers::WithinRel;
@@ -301,3 +303,5 @@ TEST_CASE("generators reject bad parameters with spinmotor::Error", "[generators
   CHECK_THROWS_WITH(torus(1.0, 2.0, 8, 8), Catch::Contains("torus") && Catch::Contains("r < R"));
   CHECK_THROWS_AS(uv_sphere(100000, 100000), Error);  // too large for int indices
 }
+
+}  // namespace test_generators

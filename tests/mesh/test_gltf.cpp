@@ -29,6 +29,8 @@
 #include "spinmotor/scene/rig_cleanup.hpp"
 #include "spinmotor/scene/rig_pose.hpp"
 
+namespace test_gltf {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -1052,3 +1054,5 @@ TEST_CASE("spinmotor rig on CesiumMan: info numbers and a baked glb") {
           1e-12 * (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm());
   }
 }
+
+}  // namespace test_gltf

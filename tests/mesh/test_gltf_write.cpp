@@ -24,6 +24,8 @@
 #include "spinmotor/mesh/procedural_rig.hpp"
 #include "spinmotor/mesh/validate.hpp"
 
+namespace test_gltf_write {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -400,3 +402,5 @@ TEST_CASE("limb rig bent 90°: DLB and Log keep the volume LBS loses at the join
   CHECK(std::abs(dlb - 1) < std::abs(lbs - 1));
   CHECK(std::abs(log - 1) < std::abs(lbs - 1));
 }
+
+}  // namespace test_gltf_write

@@ -17,6 +17,8 @@
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/openmesh_interop.hpp"
 
+namespace test_io {
+
 using namespace spinmotor;
 namespace fs = std::filesystem;
 
@@ -495,3 +497,5 @@ TEST_CASE("openmesh_interop: to_openmesh and back keeps positions, faces (up to 
   nm.FUV.resize(0, 3);
   CHECK_THAT(error_of([&] { to_openmesh(nm); }), Catch::Contains("cannot add face 8 (0, 2, 5)"));
 }
+
+}  // namespace test_io

@@ -13,6 +13,8 @@
 #include "spinmotor/mesh/metrics/json.hpp"
 #include "spinmotor/mesh/topology.hpp"
 
+namespace test_metrics {
+
 using namespace spinmotor;
 using Catch::Matchers::WithinAbs;
 using Catch::Matchers::WithinRel;
@@ -324,3 +326,5 @@ TEST_CASE("compute_metrics on a sheared grid: closed forms and JSON keys", "[met
   CHECK(ma.q_mean == m.q_mean);
   CHECK(!ma.willmore_rest.has_value());
 }
+
+}  // namespace test_metrics

@@ -14,6 +14,8 @@
 #include "spinmotor/mesh/mean_value_laplacian.hpp"
 #include "spinmotor/mesh/topology.hpp"
 
+namespace test_operators {
+
 using namespace spinmotor;
 using Eigen::MatrixXd;
 using Eigen::MatrixXi;
@@ -299,3 +301,5 @@ TEST_CASE("unreferenced vertices keep an explicit zero diagonal and zero mass", 
   CHECK(L.coeff(9, 9) == 0.0);
   CHECK(vertex_areas(g.V, g.F)[9] == 0.0);
 }
+
+}  // namespace test_operators

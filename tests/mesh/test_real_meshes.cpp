@@ -17,6 +17,8 @@
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/validate.hpp"
 
+namespace test_real_meshes {
+
 using namespace spinmotor;
 namespace fs = std::filesystem;
 
@@ -219,3 +221,5 @@ TEST_CASE("print the reports of every real mesh", "[.print]") {
     if (r.genus < 0) std::printf("    genus undefined: %s\n", r.genus_note.c_str());
   }
 }
+
+}  // namespace test_real_meshes

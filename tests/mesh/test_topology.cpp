@@ -3,6 +3,8 @@
 
 #include "spinmotor/mesh/topology.hpp"
 
+namespace test_topology {
+
 using namespace spinmotor;
 
 TEST_CASE("tetrahedron: 6 edges of valence 2, one component, no boundary", "[topology]") {
@@ -53,3 +55,5 @@ TEST_CASE("a non-manifold edge has valence 3", "[topology]") {
   CHECK(max_valence == 3);
   CHECK(t.num_edges() == 7);
 }
+
+}  // namespace test_topology

@@ -10,6 +10,8 @@
 #include "spinmotor/mesh/repair.hpp"
 #include "spinmotor/mesh/validate.hpp"
 
+namespace test_validate {
+
 using namespace spinmotor;
 
 namespace {
@@ -378,3 +380,5 @@ TEST_CASE("repairs: remove unreferenced vertices, merge exact duplicates", "[val
     CHECK_THROWS_AS(merge_duplicate_vertices(t), Error);
   }
 }
+
+}  // namespace test_validate

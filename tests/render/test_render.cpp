@@ -16,6 +16,8 @@
 #include "spinmotor/render/render_mesh.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
 
+namespace test_render {
+
 using namespace spinmotor;
 using namespace spinmotor::render;
 using Eigen::MatrixXd;
@@ -233,3 +235,5 @@ TEST_CASE("spinmotor render writes a PNG, bad input exits 2 without output", "[r
   CHECK(leftovers == 0);
   std::filesystem::remove_all(dir);
 }
+
+}  // namespace test_render

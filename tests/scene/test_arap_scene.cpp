@@ -10,6 +10,8 @@
 #include "spinmotor/scene/run.hpp"
 #include "spinmotor/scene/scene.hpp"
 
+namespace test_arap_scene {
+
 using namespace spinmotor;
 using nlohmann::json;
 
@@ -107,3 +109,5 @@ TEST_CASE("arap scene: 'previous' starts each frame from the last result and sav
     CHECK((prev.frames[k].V - rest.frames[k].V).rowwise().norm().maxCoeff() < 1e-2 * diag);
   }
 }
+
+}  // namespace test_arap_scene

@@ -20,6 +20,8 @@
 #include "spinmotor/spin/conformal_snap.hpp"
 #include "spinmotor/spin/spin_transform.hpp"
 
+namespace test_determinism {
+
 using namespace spinmotor;
 
 namespace {
@@ -101,3 +103,5 @@ TEST_CASE("determinism: ARAP, 1 vs 2 threads and run to run", "[determinism][ara
     return V;
   });
 }
+
+}  // namespace test_determinism

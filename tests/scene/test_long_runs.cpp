@@ -19,6 +19,8 @@
 #include "spinmotor/scene/run.hpp"
 #include "spinmotor/scene/scene.hpp"
 
+namespace test_long_runs {
+
 using namespace spinmotor;
 using nlohmann::json;
 namespace fs = std::filesystem;
@@ -156,3 +158,5 @@ TEST_CASE("spinmotor deform stopped by SIGTERM: exit 143, every frame on disk co
           "[scene][cli][interrupt]") {
   interrupt_and_check(SIGTERM);
 }
+
+}  // namespace test_long_runs

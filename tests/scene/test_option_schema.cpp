@@ -11,6 +11,8 @@
 #include "spinmotor/deform/spline_basis.hpp"
 #include "spinmotor/scene/scene.hpp"
 
+namespace test_option_schema {
+
 using namespace spinmotor;
 
 namespace {
@@ -54,3 +56,5 @@ TEST_CASE("the scene schema's enums equal the option tables", "[scene][schema][o
   CHECK(schema_enum(d + "deformer_skin/properties/blend") == table<SkinBlend>());
   CHECK(schema_enum(d + "deformer_skin/properties/mush") == table<MushKind>());
 }
+
+}  // namespace test_option_schema

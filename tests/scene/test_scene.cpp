@@ -18,6 +18,8 @@
 #include "spinmotor/scene/run.hpp"
 #include "spinmotor/scene/scene.hpp"
 
+namespace test_scene {
+
 using namespace spinmotor;
 using namespace spinmotor::scene;
 using nlohmann::json;
@@ -476,3 +478,5 @@ TEST_CASE("spinmotor deform: a failure after the first frame of an animation lea
   CHECK(ok.code == 0);
   CHECK(count_files(out) == 6);
 }
+
+}  // namespace test_scene

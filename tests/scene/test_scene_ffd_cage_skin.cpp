@@ -19,6 +19,8 @@
 #include "spinmotor/scene/run.hpp"
 #include "spinmotor/scene/scene.hpp"
 
+namespace test_scene_ffd_cage_skin {
+
 using namespace spinmotor;
 using nlohmann::json;
 namespace fs = std::filesystem;
@@ -331,3 +333,5 @@ TEST_CASE("cage scene: --max-memory refuses a grid that cannot fit at once, exit
   CHECK(bad.code == 2);
   CHECK(bad.err.find("memory size '12X'") != std::string::npos);
 }
+
+}  // namespace test_scene_ffd_cage_skin

@@ -14,6 +14,8 @@
 #include "spinmotor/scene/run.hpp"
 #include "spinmotor/scene/scene.hpp"
 
+namespace test_scene_ik {
+
 using namespace spinmotor;
 using namespace spinmotor::scene;
 using nlohmann::json;
@@ -126,3 +128,5 @@ TEST_CASE("the IK target animates: frames move the control 'ik.target' and the t
   keys["pose"]["ik.target"] = {{"translate", {0, 1, 0}}};
   CHECK_THROWS_WITH(run_scene(parse_scene(keys, kScenes, "keys.json")), Catch::Contains("/pose/ik.target"));
 }
+
+}  // namespace test_scene_ik

@@ -26,6 +26,8 @@
 #include "spinmotor/scene/run.hpp"
 #include "spinmotor/scene/scene.hpp"
 
+namespace test_scene_rig {
+
 using namespace spinmotor;
 using nlohmann::json;
 namespace fs = std::filesystem;
@@ -303,3 +305,5 @@ TEST_CASE("rig scene on CesiumMan through spinmotor deform: the glTF formula and
   CHECK(m["rig"]["renormalised_rows"] == rig.renormalised_rows);
   CHECK(m["time"] == 1.0);
 }
+
+}  // namespace test_scene_rig

@@ -14,6 +14,8 @@
 #include "spinmotor/spin/curvature_spin_flow.hpp"
 #include "spinmotor/spin/edge_constraint_net.hpp"
 
+namespace test_curvature_spin_flow {
+
 using namespace spinmotor;
 
 namespace {
@@ -120,3 +122,5 @@ TEST_CASE("genus 1: the exactness constraint keeps a torus closing up, without i
     }
   }
 }
+
+}  // namespace test_curvature_spin_flow

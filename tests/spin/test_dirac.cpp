@@ -13,6 +13,8 @@
 #include "spinmotor/spin/dirac_spectrum.hpp"
 #include "spinmotor/spin/quaternion_matrix.hpp"
 
+namespace test_dirac {
+
 using namespace spinmotor;
 
 namespace {
@@ -153,3 +155,5 @@ TEST_CASE("Dirac eigenvalues scale as 1/radius, eigenvectors solve eq. 6", "[dir
     CHECK((Kx - s1.eigenvalues[t] * (G * x)).norm() < 1e-6 * Kx.norm());
   }
 }
+
+}  // namespace test_dirac

@@ -11,6 +11,8 @@
 #include "spinmotor/spin/dirac_fairing.hpp"
 #include "spinmotor/spin/edge_constraint_net.hpp"
 
+namespace test_dirac_fairing {
+
 using namespace spinmotor;
 
 TEST_CASE("fast fairing decreases W at every step on spot", "[ye][fairing]") {
@@ -45,3 +47,5 @@ TEST_CASE("dirac immersion rejects a torus (not simply connected) and bad indice
   CHECK_THROWS_AS(dirac_immersion(s.V, s.F, -1), Error);
   CHECK_THROWS_AS(dirac_fairing(s.V, s.F, -2), Error);
 }
+
+}  // namespace test_dirac_fairing

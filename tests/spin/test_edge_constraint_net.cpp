@@ -7,6 +7,8 @@
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/spin/edge_constraint_net.hpp"
 
+namespace test_edge_constraint_net {
+
 using namespace spinmotor;
 
 TEST_CASE("unit icosphere: convex edges positive, H_i ~ Area_i, W within 0.5% of 4 pi", "[ye][willmore]") {
@@ -79,3 +81,5 @@ TEST_CASE("edge_constraint_net rejects non-manifold and degenerate input", "[ye]
   F << 0, 1, 2;
   CHECK_THROWS_AS(edge_constraint_net(V, F), Error);
 }
+
+}  // namespace test_edge_constraint_net

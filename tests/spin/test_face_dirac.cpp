@@ -13,6 +13,8 @@
 #include "spinmotor/spin/face_dirac_operator.hpp"
 #include "spinmotor/spin/quaternion_matrix.hpp"
 
+namespace test_face_dirac {
+
 using namespace spinmotor;
 
 namespace {
@@ -146,3 +148,5 @@ TEST_CASE("face Dirac operators reject bad input", "[ye][dirac]") {
   CHECK_THROWS_AS(face_spin_transform(s.V, s.F, Eigen::MatrixXd::Ones(3, 4), FaceDiracKind::Intrinsic),
                   Error);
 }
+
+}  // namespace test_face_dirac

@@ -26,6 +26,8 @@
 #include "spinmotor/scene/rig_cleanup.hpp"
 #include "spinmotor/spin/pinned_cleanup.hpp"
 
+namespace test_pinned_cleanup {
+
 using namespace spinmotor;
 using spinmotor::scene::RigCleanup;
 using spinmotor::scene::RigCleanupOptions;
@@ -880,3 +882,5 @@ TEST_CASE("warm start: an animation converges in far fewer steps to the same qua
   (void)pc.cleanup(frame(24), V3);
   CHECK(V1 == V3);
 }
+
+}  // namespace test_pinned_cleanup

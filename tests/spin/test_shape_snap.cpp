@@ -15,6 +15,8 @@
 #include "spinmotor/mesh/metrics/quasi_conformal.hpp"
 #include "spinmotor/spin/curvature_spin_flow.hpp"
 
+namespace test_shape_snap {
+
 using namespace spinmotor;
 using Eigen::Index;
 using Eigen::MatrixXd;
@@ -74,3 +76,5 @@ TEST_CASE("shape snap of a 90-degree bent sausage: bend kept, Q_mean, RMS to the
     CHECK(q < q_edit);
   }
 }
+
+}  // namespace test_shape_snap

@@ -19,6 +19,8 @@
 #include "spinmotor/spin/curvature_change.hpp"
 #include "spinmotor/spin/spin_transform.hpp"
 
+namespace test_snap {
+
 using namespace spinmotor;
 using Eigen::Index;
 using Eigen::MatrixXd;
@@ -323,3 +325,5 @@ TEST_CASE("conformal snap rejects bad input", "[snap]") {
   const Mesh g = grid(Eigen::Vector2d(1.0, 1.0), Eigen::Vector2i(4, 4));
   CHECK_THROWS_WITH(ConformalSnap(g, {.problem = SpinEigenProblem::Generalized}), Catch::Contains("closed"));
 }
+
+}  // namespace test_snap

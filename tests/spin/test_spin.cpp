@@ -20,6 +20,8 @@
 #include "spinmotor/spin/scalar_expression.hpp"
 #include "spinmotor/spin/spin_transform.hpp"
 
+namespace test_spin {
+
 using namespace spinmotor;
 
 namespace {
@@ -412,3 +414,5 @@ TEST_CASE("rho inputs: per vertex, scalar expression, image sampling", "[spin][r
   CHECK(mismatches == 0);
   CHECK(flipped > 1000);  // the test can tell the two row orders apart
 }
+
+}  // namespace test_spin

@@ -18,6 +18,8 @@
 #include "spinmotor/spin/minimal_surface_step.hpp"
 #include "spinmotor/spin/willmore_flow.hpp"
 
+namespace test_willmore_flow {
+
 using namespace spinmotor;
 
 namespace {
@@ -248,3 +250,5 @@ TEST_CASE("Willmore flow with planar boundary tangents flattens a disk", "[willm
   }
   CHECK(thickness(r.V) < 0.01);
 }
+
+}  // namespace test_willmore_flow
