@@ -58,6 +58,7 @@ template <int O, class Lane, bool Signed>
 
 enum class Kernel { Position, Log, Linear };
 
+/// The Position and Linear kernels, vertex by vertex (Log: run_log below).
 template <int O, Kernel K>
 void run(const Eigen::MatrixXd& P, const std::vector<unsigned char>& inside,
          const std::vector<std::array<int, 3>>& start, const std::vector<double>& basis,
@@ -80,9 +81,6 @@ void run(const Eigen::MatrixXd& P, const std::vector<unsigned char>& inside,
     if constexpr (K == Kernel::Position) {
       const A4 s = contract<O, A4, false>(static_cast<const A4*>(lanes), dims, order, start[i], b, nullptr);
       q = Eigen::Vector3d(s[0], s[1], s[2]);  // eq. 8
-    } else if constexpr (K == Kernel::Log) {
-      const A8 s = contract<O, A8, false>(static_cast<const A8*>(lanes), dims, order, start[i], b, nullptr);
-      q = ga::transform(ga::exp(ga::Dll(s[0], s[1], s[2], s[3], s[4], s[5])), p);  // exp(Σ w log R)
     } else {
       const A8 s = contract<O, A8, true>(static_cast<const A8*>(lanes), dims, order, start[i], b,
                                          signs + static_cast<Eigen::Index>(pivot[i]) * L);
@@ -95,15 +93,63 @@ void run(const Eigen::MatrixXd& P, const std::vector<unsigned char>& inside,
     throw numerical_error("FfdDeformer: the linear blend of the control motors cancels at a vertex");
 }
 
+/// The Log kernel by blocks of 4 vertices: each vertex's blended generator Σ w_c log R_c (the tensor
+/// contraction as in run()), then exp and the point transform across the block in SIMD lanes
+/// (ga::detail::exp_lanes, transform_lanes). Outside vertices get the zero generator and keep their
+/// rest position.
+template <int O>
+void run_log(const Eigen::MatrixXd& P, const std::vector<unsigned char>& inside,
+             const std::vector<std::array<int, 3>>& start, const std::vector<double>& basis,
+             const std::array<int, 3>& dims, const std::array<int, 3>& order, const A8* lanes,
+             Eigen::MatrixXd& V_out) {
+  constexpr int K = 4;
+  using Lanes = ga::detail::Lanes<K>;
+  const Eigen::Index n = P.rows(), blocks = (n + K - 1) / K;
+  const int stride = order[0] + order[1] + order[2];
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend))
+  for (Eigen::Index blk = 0; blk < blocks; ++blk) {
+    const Eigen::Index i0 = blk * K;
+    const int count = static_cast<int>(std::min<Eigen::Index>(K, n - i0));
+    Lanes g[6], p[3];
+    for (int v = 0; v < K; ++v) {
+      const Eigen::Index i = i0 + std::min(v, count - 1);  // a short last block repeats its last vertex
+      for (int c = 0; c < 3; ++c) p[c][v] = P(i, c);
+      if (!inside[i]) {
+        for (int c = 0; c < 6; ++c) g[c][v] = 0.0;
+        continue;
+      }
+      const A8 s = contract<O, A8, false>(lanes, dims, order, start[i], basis.data() + i * stride, nullptr);
+      for (int c = 0; c < 6; ++c) g[c][v] = s[c];
+    }
+    Lanes m[8], q[3];
+    ga::detail::exp_lanes(g, m);  // exp(Σ w log R)
+    ga::detail::transform_lanes(m, p, q);
+    for (int v = 0; v < count; ++v) {
+      const Eigen::Index i = i0 + v;
+      if (inside[i])
+        V_out(i, 0) = q[0][v], V_out(i, 1) = q[1][v], V_out(i, 2) = q[2][v];
+      else
+        V_out(i, 0) = p[0][v], V_out(i, 1) = p[1][v], V_out(i, 2) = p[2][v];
+    }
+  }
+}
+
 template <Kernel K>
 void dispatch(const Eigen::MatrixXd& P, const std::vector<unsigned char>& inside,
               const std::vector<std::array<int, 3>>& start, const std::vector<double>& basis,
               const std::array<int, 3>& dims, const std::array<int, 3>& order, const void* lanes,
               const double* signs, const std::vector<int>& pivot, Eigen::MatrixXd& V_out) {
-  if (order[0] == 4 && order[1] == 4 && order[2] == 4)
+  const bool cubic = order[0] == 4 && order[1] == 4 && order[2] == 4;
+  if constexpr (K == Kernel::Log) {
+    if (cubic)
+      run_log<4>(P, inside, start, basis, dims, order, static_cast<const A8*>(lanes), V_out);
+    else
+      run_log<0>(P, inside, start, basis, dims, order, static_cast<const A8*>(lanes), V_out);
+  } else if (cubic) {
     run<4, K>(P, inside, start, basis, dims, order, lanes, signs, pivot, V_out);
-  else
+  } else {
     run<0, K>(P, inside, start, basis, dims, order, lanes, signs, pivot, V_out);
+  }
 }
 
 }  // namespace

@@ -194,6 +194,38 @@ TEST_CASE("FFD: vertices outside an explicit box are unchanged and counted", "[f
   CHECK(same == expected);
 }
 
+TEST_CASE("FFD log blend by blocks of 4: a short last block and outside vertices inside blocks", "[ffd]") {
+  // 1,081 vertices (one in the last block of 4), a box that leaves the x < 0 half outside, so blocks mix
+  // inside and outside vertices; every vertex against ga::blend over its supporting controls.
+  const Mesh m = torus(2.0, 0.7, 47, 23);
+  REQUIRE(m.V.rows() % 4 == 1);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (auto basis : {FfdDeformer::Basis::Bezier, FfdDeformer::Basis::BSpline}) {
+    auto o = opts(basis, FfdDeformer::Mode::Motor, {4, 5, 4});
+    o.box = Eigen::AlignedBox3d(Vector3d(0.0, -3, -1), Vector3d(3, 3, 1));
+    FfdDeformer d = FfdDeformer::bind(m, o);
+    REQUIRE(d.outside() > 0);
+    std::vector<ga::Mot> M(d.controls().size());
+    for (auto& mo : M)  // rotations up to 170°
+      mo = rigid({u(rng), u(rng), u(rng)}, 170 * u(rng), {0.5 * u(rng), 0.5 * u(rng), 0.5 * u(rng)});
+    MatrixXd V;
+    d.pose(M, V);
+    double err = 0.0;
+    Index unchanged = 0;
+    for (Index i = 0; i < m.V.rows(); ++i) {
+      if (!d.inside(i)) {
+        unchanged += V.row(i) == m.V.row(i);
+        continue;
+      }
+      err = std::max(
+          err, (V.row(i).transpose() - ga::transform(d.vertex_motor(i, M), m.V.row(i).transpose())).norm());
+    }
+    CHECK(unchanged == d.outside());
+    CHECK(err < 1e-12);
+  }
+}
+
 TEST_CASE("FFD: bad input throws Error naming it", "[ffd]") {
   const Mesh m = test_mesh();
   auto o = opts(FfdDeformer::Basis::Bezier, FfdDeformer::Mode::Motor, {4, 1, 4});

@@ -62,6 +62,25 @@ SPINMOTOR_GA_PURE Eigen::Vector3d transform(const Mot& m, const Eigen::Vector3d&
                          2.0 * (xz - wy) * px + 2.0 * (yz + wx) * py + (1.0 - 2.0 * (xx + yy)) * pz + t.z());
 }
 
+namespace detail {
+/// transform() on SIMD lanes (Eigen arrays), one unit motor and one point per lane: m[0..7] in Mot
+/// order, p and q as (x, y, z). The same arithmetic as translation() and transform().
+template <int K>
+SPINMOTOR_GA_INLINE void transform_lanes(const Lanes<K> (&m)[8], const Lanes<K> (&p)[3],
+                                         Lanes<K> (&q)[3]) noexcept {
+  const Lanes<K> w = m[0], x = -m[3], y = -m[2], z = -m[1];
+  const Lanes<K> d0 = -m[7], dx = -m[4], dy = -m[5], dz = -m[6];
+  const Lanes<K> tx = 2.0 * (w * dx - d0 * x + y * dz - z * dy),
+                 ty = 2.0 * (w * dy - d0 * y + z * dx - x * dz),
+                 tz = 2.0 * (w * dz - d0 * z + x * dy - y * dx);
+  const Lanes<K> xx = x * x, yy = y * y, zz = z * z, xy = x * y, xz = x * z, yz = y * z;
+  const Lanes<K> wx = w * x, wy = w * y, wz = w * z;
+  q[0] = (1.0 - 2.0 * (yy + zz)) * p[0] + 2.0 * (xy - wz) * p[1] + 2.0 * (xz + wy) * p[2] + tx;
+  q[1] = 2.0 * (xy + wz) * p[0] + (1.0 - 2.0 * (xx + zz)) * p[1] + 2.0 * (yz - wx) * p[2] + ty;
+  q[2] = 2.0 * (xz - wy) * p[0] + 2.0 * (yz + wx) * p[1] + (1.0 - 2.0 * (xx + yy)) * p[2] + tz;
+}
+}  // namespace detail
+
 /// (real, dual) unit dual quaternion of a motor, dual = ½ t real.
 [[nodiscard]] inline std::pair<Eigen::Quaterniond, Eigen::Quaterniond> to_dual_quaternion(
     const Mot& m) noexcept {

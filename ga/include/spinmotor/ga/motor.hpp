@@ -157,6 +157,39 @@ SPINMOTOR_GA_INLINE void log_kernel(const T (&m)[8], T (&out)[6]) {
   out[5] = r * m[6] - gv * out[0];
 }
 
+/// Σ_k c[k] x^k by Horner's rule on SIMD lanes (Eigen arrays).
+template <std::size_t N, class T>
+SPINMOTOR_GA_PURE T horner_lanes(const std::array<double, N>& c, const T& x) noexcept {
+  T acc = T::Constant(c[N - 1]);
+  for (std::size_t k = N - 1; k-- > 0;) acc = acc * x + c[k];
+  return acc;
+}
+
+/// Formula (E) on SIMD lanes, one generator per lane: b[0..5] in Dll order (ω_z, ω_y, ω_x, v_x, v_y,
+/// v_z), m[0..7] in Mot order. The same arithmetic as exp(const Dll&): the series of exp_coefficients
+/// for every lane when all lanes have φ ≤ 1.6, else the coefficients lane by lane (std::sin, std::cos).
+template <int K>
+SPINMOTOR_GA_INLINE void exp_lanes(const Lanes<K> (&b)[6], Lanes<K> (&m)[8]) noexcept {
+  const Lanes<K> x = b[0] * b[0] + b[1] * b[1] + b[2] * b[2];
+  Lanes<K> cs, k, c2;
+  if (x.maxCoeff() <= kExpSeriesMax) {
+    cs = horner_lanes(kExpSeries.cos, x);
+    k = horner_lanes(kExpSeries.sinc, x);
+    c2 = horner_lanes(kExpSeries.c2, x);
+  } else {
+    for (int l = 0; l < K; ++l) exp_coefficients(x[l], cs[l], k[l], c2[l]);
+  }
+  const Lanes<K> vw = b[3] * b[2] + b[4] * b[1] + b[5] * b[0], cv = c2 * vw;
+  m[0] = cs;
+  m[1] = k * b[0];
+  m[2] = k * b[1];
+  m[3] = k * b[2];
+  m[4] = k * b[3] + cv * b[2];
+  m[5] = k * b[4] + cv * b[1];
+  m[6] = k * b[5] + cv * b[0];
+  m[7] = k * vw;
+}
+
 }  // namespace detail
 
 /// The unit motor M / sqrt(M ~M): with M ~M = α + β I3 inf, M α^{-1/2} (1 - β/(2α) I3 inf). This is the
