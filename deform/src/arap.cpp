@@ -9,6 +9,7 @@
 #include "spinmotor/core/parallel.hpp"
 #include "spinmotor/core/stopwatch.hpp"
 #include "spinmotor/deform/arap_rotation.hpp"
+#include "spinmotor/linalg/geometric_ordering.hpp"
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"
 #include "spinmotor/mesh/validate.hpp"  // require(): names a degenerate face
@@ -259,60 +260,6 @@ void ArapDeformer::bind_handles(std::span<const Handle> handles) {
 
 namespace {
 
-/// Geometric nested dissection of the vertices `nodes` of the graph (off, nbr): recursive median
-/// splits along the longest bounding-box axis; the vertices of the half with the shorter boundary
-/// that touch the other half form the separator, numbered after both halves. O(n log n). Appends the
-/// ordering to `order`; `label` (size n, 0 on entry for the nodes) is scratch.
-void nested_dissection(const ArapDeformer::RowMatrix3& P, const std::vector<int>& off,
-                       const std::vector<int>& nbr, std::vector<int>& nodes, std::vector<int>& label,
-                       int& next_label, std::vector<int>& order) {
-  constexpr std::size_t kLeaf = 32;
-  if (nodes.size() <= kLeaf) {
-    order.insert(order.end(), nodes.begin(), nodes.end());
-    return;
-  }
-  Eigen::RowVector3d lo = P.row(nodes[0]), hi = lo;
-  for (int v : nodes) lo = lo.cwiseMin(P.row(v)), hi = hi.cwiseMax(P.row(v));
-  int axis;
-  (hi - lo).maxCoeff(&axis);
-  const std::size_t mid = nodes.size() / 2;
-  std::nth_element(nodes.begin(), nodes.begin() + static_cast<std::ptrdiff_t>(mid), nodes.end(),
-                   [&](int a, int b) { return P(a, axis) < P(b, axis); });
-  const int L = next_label++, R = next_label++;
-  for (std::size_t k = 0; k < nodes.size(); ++k) label[nodes[k]] = k < mid ? L : R;
-  const auto touches = [&](int v, int other) {
-    for (int k = off[v]; k < off[v + 1]; ++k)
-      if (label[nbr[k]] == other) return true;
-    return false;
-  };
-  std::vector<int> left, right, sep_left, sep_right;
-  for (std::size_t k = 0; k < nodes.size(); ++k) {
-    const int v = nodes[k];
-    const bool is_left = k < mid;
-    (touches(v, is_left ? R : L) ? (is_left ? sep_left : sep_right) : (is_left ? left : right)).push_back(v);
-  }
-  // Keep the shorter boundary as separator; the other goes back to its half.
-  std::vector<int>& sep = sep_left.size() <= sep_right.size() ? sep_left : sep_right;
-  if (&sep == &sep_left)
-    right.insert(right.end(), sep_right.begin(), sep_right.end());
-  else
-    left.insert(left.end(), sep_left.begin(), sep_left.end());
-  const int S = next_label++;
-  for (int v : sep) label[v] = S;
-  if (left.empty() || right.empty()) {  // no progress (e.g. coincident coordinates): stop here
-    order.insert(order.end(), nodes.begin(), nodes.end());
-    return;
-  }
-  std::vector<int>().swap(nodes);
-  nested_dissection(P, off, nbr, left, label, next_label, order);
-  nested_dissection(P, off, nbr, right, label, next_label, order);
-  order.insert(order.end(), sep.begin(), sep.end());
-}
-
-}  // namespace
-
-namespace {
-
 /// ARAP's words for the components without a handle (the DirichletSolver found them).
 [[noreturn]] void throw_floating(const FloatingComponentError& e) {
   const auto& missing = e.floating();
@@ -338,16 +285,8 @@ void ArapDeformer::factorize(const std::vector<int>& cons) {
   // Free vertices in a geometric nested-dissection order: the rows of L_FF.
   std::vector<char> constrained(n, 0);
   for (int v : cons) constrained[v] = 1;
-  std::vector<int> nodes, order;
-  for (int i = 0; i < n; ++i)
-    if (!constrained[i]) nodes.push_back(i);
-  const int nf = static_cast<int>(nodes.size());
-  order.reserve(nf);
-  {
-    std::vector<int> label(n, -1);  // constrained vertices never match a label: they are not in the graph
-    int next_label = 0;
-    nested_dissection(P_, off_, nbr_, nodes, label, next_label, order);
-  }
+  const std::vector<int> order = geometric_nested_dissection(P_, off_, nbr_, constrained);
+  const int nf = static_cast<int>(order.size());
 
   // Fill-reducing ordering: AMD on L_FF, or the nested dissection above as is (natural); with Auto
   // both are analysed (symbolic only, cheap) and the one with fewer factorization flops is factorized.

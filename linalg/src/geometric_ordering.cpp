@@ -1,0 +1,77 @@
+#include "spinmotor/linalg/geometric_ordering.hpp"
+
+#include <algorithm>
+
+#include "spinmotor/core/error.hpp"
+
+namespace spinmotor {
+
+namespace {
+
+/// Appends the order of `nodes` to `order`; `label` (size n) is scratch: unlabelled nodes hold -1.
+void dissect(const Eigen::Ref<const Eigen::MatrixXd>& P, std::span<const int> off, std::span<const int> nbr,
+             std::vector<int>& nodes, std::vector<int>& label, int& next_label, std::vector<int>& order) {
+  constexpr std::size_t kLeaf = 32;
+  if (nodes.size() <= kLeaf) {
+    order.insert(order.end(), nodes.begin(), nodes.end());
+    return;
+  }
+  Eigen::RowVector3d lo = P.row(nodes[0]), hi = lo;
+  for (int v : nodes) lo = lo.cwiseMin(P.row(v)), hi = hi.cwiseMax(P.row(v));
+  int axis;
+  (hi - lo).maxCoeff(&axis);
+  const std::size_t mid = nodes.size() / 2;
+  std::nth_element(nodes.begin(), nodes.begin() + static_cast<std::ptrdiff_t>(mid), nodes.end(),
+                   [&](int a, int b) { return P(a, axis) < P(b, axis); });
+  const int L = next_label++, R = next_label++;
+  for (std::size_t k = 0; k < nodes.size(); ++k) label[nodes[k]] = k < mid ? L : R;
+  const auto touches = [&](int v, int other) {
+    for (int k = off[v]; k < off[v + 1]; ++k)
+      if (label[nbr[k]] == other) return true;
+    return false;
+  };
+  std::vector<int> left, right, sep_left, sep_right;
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    const int v = nodes[k];
+    const bool is_left = k < mid;
+    (touches(v, is_left ? R : L) ? (is_left ? sep_left : sep_right) : (is_left ? left : right)).push_back(v);
+  }
+  // Keep the shorter boundary as separator; the other goes back to its half.
+  std::vector<int>& sep = sep_left.size() <= sep_right.size() ? sep_left : sep_right;
+  if (&sep == &sep_left)
+    right.insert(right.end(), sep_right.begin(), sep_right.end());
+  else
+    left.insert(left.end(), sep_left.begin(), sep_left.end());
+  const int S = next_label++;
+  for (int v : sep) label[v] = S;
+  if (left.empty() || right.empty()) {  // no progress (e.g. coincident coordinates): stop here
+    order.insert(order.end(), nodes.begin(), nodes.end());
+    return;
+  }
+  std::vector<int>().swap(nodes);
+  dissect(P, off, nbr, left, label, next_label, order);
+  dissect(P, off, nbr, right, label, next_label, order);
+  order.insert(order.end(), sep.begin(), sep.end());
+}
+
+}  // namespace
+
+std::vector<int> geometric_nested_dissection(const Eigen::Ref<const Eigen::MatrixXd>& P,
+                                             std::span<const int> off, std::span<const int> nbr,
+                                             std::span<const char> excluded) {
+  const Eigen::Index n = P.rows();
+  if (P.cols() != 3 || off.size() != static_cast<std::size_t>(n) + 1 ||
+      excluded.size() != static_cast<std::size_t>(n) || (n > 0 && off[0] != 0) ||
+      static_cast<std::size_t>(off[static_cast<std::size_t>(n)]) > nbr.size())
+    throw Error("geometric_nested_dissection: P must be n×3, off hold n + 1 offsets into nbr, excluded n flags");
+  std::vector<int> nodes, order;
+  for (int i = 0; i < static_cast<int>(n); ++i)
+    if (!excluded[static_cast<std::size_t>(i)]) nodes.push_back(i);
+  order.reserve(nodes.size());
+  std::vector<int> label(static_cast<std::size_t>(n), -1);  // excluded unknowns never match a label
+  int next_label = 0;
+  dissect(P, off, nbr, nodes, label, next_label, order);
+  return order;
+}
+
+}  // namespace spinmotor
