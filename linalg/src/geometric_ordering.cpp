@@ -63,7 +63,8 @@ std::vector<int> geometric_nested_dissection(const Eigen::Ref<const Eigen::Matri
   if (P.cols() != 3 || off.size() != static_cast<std::size_t>(n) + 1 ||
       excluded.size() != static_cast<std::size_t>(n) || (n > 0 && off[0] != 0) ||
       static_cast<std::size_t>(off[static_cast<std::size_t>(n)]) > nbr.size())
-    throw Error("geometric_nested_dissection: P must be n×3, off hold n + 1 offsets into nbr, excluded n flags");
+    throw Error(
+        "geometric_nested_dissection: P must be n×3, off hold n + 1 offsets into nbr, excluded n flags");
   std::vector<int> nodes, order;
   for (int i = 0; i < static_cast<int>(n); ++i)
     if (!excluded[static_cast<std::size_t>(i)]) nodes.push_back(i);
