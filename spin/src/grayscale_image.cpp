@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <sstream>
 #include <string>
 
 #include "spinmotor/core/error.hpp"
@@ -30,6 +31,13 @@
 namespace spinmotor {
 
 double GrayscaleImage::sample(double x, double y) const {
+  // A NaN survives std::clamp, and its conversion to int below is undefined behaviour; an infinity
+  // would give inf − inf weights.
+  if (!std::isfinite(x) || !std::isfinite(y)) {
+    std::ostringstream s;
+    s << "GrayscaleImage::sample: coordinate (" << x << ", " << y << ") is not finite";
+    throw Error(s.str());
+  }
   const double fx = std::floor(x), fy = std::floor(y);
   const double ax = x - fx, ay = y - fy, bx = 1.0 - ax, by = 1.0 - ay;
   auto clampi = [](double v, int hi) {

@@ -395,6 +395,12 @@ TEST_CASE("rho inputs: per vertex, scalar expression, image sampling", "[spin][r
   t.FUV = Eigen::MatrixXi::Zero(m.F.rows(), 3);
   const Eigen::VectorXd ri = face_rho_from_image(t, img, 5.0);
   CHECK(ri[0] == Approx((2.0 * 102.0 / 255.0 - 1.0) * 5.0));
+  // A coordinate that is not finite is an Error (a NaN's conversion to int would be UB).
+  CHECK(img.sample(1e300, -1e300) == Approx(255.0));  // far outside: clamped to the corner (1, 0)
+  CHECK_THROWS_WITH(img.sample(std::nan(""), 0.5), Catch::Contains("not finite"));
+  CHECK_THROWS_WITH(img.sample(0.5, INFINITY), Catch::Contains("not finite"));
+  t.UV(0, 1) = std::nan("");
+  CHECK_THROWS_WITH(face_rho_from_image(t, img, 5.0), Catch::Contains("face 0 has texture coordinate 0"));
   // The reference image's corner pixels, as stored in the TGA file (bottom row first).
   const GrayscaleImage bumpy =
       read_grayscale_image(std::string(SPINMOTOR_MESHES_DIR) + "/spinxform/bumpy.tga");

@@ -24,7 +24,8 @@ Eigen::VectorXd face_rho_from_function(const Eigen::MatrixXd& V, const Eigen::Ma
 /// Inputs: a mesh with texture coordinates (UV, FUV), a grayscale image, scale. Output: SpinXForm's
 /// ρ_f = (2 · (mean of the image at the face's three corner UVs) / 255 − 1) · scale, sampled with
 /// GrayscaleImage::sample_uv (so mid grey means no change; black −scale, white +scale). Throws Error
-/// if the mesh has no texture coordinates or an FUV index is out of range.
+/// if the mesh has no texture coordinates, an FUV index is out of range or a texture coordinate is
+/// not finite.
 Eigen::VectorXd face_rho_from_image(const Mesh& mesh, const GrayscaleImage& image, double scale = 5.0);
 
 /// Reads `count` real numbers separated by white space (lines starting with '#' are comments) from a

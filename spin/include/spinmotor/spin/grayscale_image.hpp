@@ -22,6 +22,7 @@ struct GrayscaleImage {
 
   /// Bilinear sample at pixel coordinates (x, y) with no half-pixel offset: pixel (i, j) is the value
   /// at (i, j); neighbours outside the image are clamped to the edge (SpinXForm's Image::sample).
+  /// Throws Error for a coordinate that is not finite.
   double sample(double x, double y) const;
   /// sample(u · width, v · height).
   double sample_uv(double u, double v) const { return sample(u * width, v * height); }
