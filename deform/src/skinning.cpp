@@ -362,20 +362,12 @@ void SkinDeformer::pose(std::span<const ga::Mot> frames, Eigen::MatrixXd& V_out)
             ws[i] = w[i] * S[static_cast<Eigen::Index>(inf[s0 + i].bone[0]) * B + j];
           for (int c = 0; c < 8; ++c) m[c] += kj[c] * ws;
         }
-        // dlb_point (dlb_point.hpp), across the block
+        // dlb_point's formula (dlb_point.hpp), across the block
         const auto px = P.col(0).segment(s0, len).array(), py = P.col(1).segment(s0, len).array(),
                    pz = P.col(2).segment(s0, len).array();
-        const A& w = m[0];
-        const A vx = -m[3], vy = -m[2], vz = -m[1], d0 = -m[7], dx = -m[4], dy = -m[5], dz = -m[6];
-        const A s2 = 2.0 / (w * w + vx * vx + vy * vy + vz * vz);
-        const A ax = vy * pz - vz * py, ay = vz * px - vx * pz, az = vx * py - vy * px;
-        const A bx = vy * az - vz * ay, by = vz * ax - vx * az, bz = vx * ay - vy * ax;
-        const A cx = vy * dz - vz * dy, cy = vz * dx - vx * dz, cz = vx * dy - vy * dx;
         auto ox = V_out.col(0).segment(s0, len).array(), oy = V_out.col(1).segment(s0, len).array(),
              oz = V_out.col(2).segment(s0, len).array();
-        ox = px + s2 * (w * ax + bx + w * dx - d0 * vx + cx);
-        oy = py + s2 * (w * ay + by + w * dy - d0 * vy + cy);
-        oz = pz + s2 * (w * az + bz + w * dz - d0 * vz + cz);
+        detail::dlb_point_into<A>(m, px, py, pz, ox, oy, oz);
         cancelled = cancelled || !(ox.isFinite().all() && oy.isFinite().all() && oz.isFinite().all());
       }
       if (cancelled)
