@@ -7,16 +7,40 @@
 
 namespace spinmotor {
 
+namespace {
+
+using SetThreads = void (*)(int);
+
+/// openblas_set_num_threads when OpenBLAS is linked and the user has not set OPENBLAS_NUM_THREADS.
+SetThreads managed_setter() {
+  static const SetThreads set = [] {
+    const auto f = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+    return std::getenv("OPENBLAS_NUM_THREADS") == nullptr ? f : nullptr;
+  }();
+  return set;
+}
+
+}  // namespace
+
 bool use_single_threaded_blas() {
   static std::once_flag once;
   static bool openblas = false;
   std::call_once(once, [] {
-    using SetThreads = void (*)(int);
-    const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-    openblas = set != nullptr;
-    if (set && std::getenv("OPENBLAS_NUM_THREADS") == nullptr) set(1);
+    openblas = dlsym(RTLD_DEFAULT, "openblas_set_num_threads") != nullptr;
+    if (const SetThreads set = managed_setter()) set(1);
   });
   return openblas;
+}
+
+ScopedBlasThreads::ScopedBlasThreads(int threads) {
+  if (const SetThreads set = managed_setter(); set && threads > 1) {
+    set(threads);
+    active_ = true;
+  }
+}
+
+ScopedBlasThreads::~ScopedBlasThreads() {
+  if (active_) managed_setter()(1);
 }
 
 }  // namespace spinmotor

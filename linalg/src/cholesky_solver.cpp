@@ -2,10 +2,12 @@
 
 #include <cholmod.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <type_traits>
 
 #include "solver_detail.hpp"
@@ -240,7 +242,13 @@ void BasicCholeskySolver<Scalar>::factorize(const SparseMatrix& A) {
     return;
   }
   cholmod_sparse s = Impl::view(A);
-  cholmod_factorize(&s, m.L, &m.common);
+  {
+    // All cores for the BLAS of a large supernodal factor (blas_threads.hpp); lnz: from analyze().
+    const bool large = m.options.supernodal && m.common.lnz >= kThreadedBlasFactorNonzeros;
+    const ScopedBlasThreads blas(large ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))
+                                       : 1);
+    cholmod_factorize(&s, m.L, &m.common);
+  }
   m.check_status("factorize");
   if (m.common.status == CHOLMOD_NOT_POSDEF || m.L->minor < m.L->n) {
     std::ostringstream why;
