@@ -30,19 +30,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
 namespace {
 
-void run(const std::filesystem::path& file) {
-  std::printf("running %s\n", file.string().c_str());
-  std::fflush(stdout);  // the name of the input is out before a crash
-  std::ifstream in(file, std::ios::binary);
-  const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  LLVMFuzzerTestOneInput(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
-}
-
 using Bytes = std::vector<std::uint8_t>;
 
 Bytes read_bytes(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   return Bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+void run(const std::filesystem::path& file) {
+  std::printf("running %s\n", file.string().c_str());
+  std::fflush(stdout);  // the name of the input is out before a crash
+  const Bytes bytes = read_bytes(file);
+  LLVMFuzzerTestOneInput(bytes.data(), bytes.size());
 }
 
 /// One random edit of `b` (which stays under 64 KiB); `other` is another input, for splices.

@@ -11,12 +11,15 @@ namespace {
 
 using SetThreads = void (*)(int);
 
-/// openblas_set_num_threads when OpenBLAS is linked and the user has not set OPENBLAS_NUM_THREADS.
+/// openblas_set_num_threads, or null when another BLAS is linked.
+SetThreads openblas_setter() {
+  static const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  return set;
+}
+
+/// openblas_setter() unless the user has set OPENBLAS_NUM_THREADS (theirs is then respected).
 SetThreads managed_setter() {
-  static const SetThreads set = [] {
-    const auto f = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-    return std::getenv("OPENBLAS_NUM_THREADS") == nullptr ? f : nullptr;
-  }();
+  static const SetThreads set = std::getenv("OPENBLAS_NUM_THREADS") == nullptr ? openblas_setter() : nullptr;
   return set;
 }
 
@@ -26,7 +29,7 @@ bool use_single_threaded_blas() {
   static std::once_flag once;
   static bool openblas = false;
   std::call_once(once, [] {
-    openblas = dlsym(RTLD_DEFAULT, "openblas_set_num_threads") != nullptr;
+    openblas = openblas_setter() != nullptr;
     if (const SetThreads set = managed_setter()) set(1);
   });
   return openblas;

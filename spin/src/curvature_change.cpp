@@ -73,13 +73,14 @@ Eigen::VectorXd face_rho_from_image(const Mesh& mesh, const GrayscaleImage& imag
           << ")";
         throw Error(s.str());
       }
-      if (!std::isfinite(mesh.UV(t, 0)) || !std::isfinite(mesh.UV(t, 1))) {
+      try {
+        mean += image.sample_uv(mesh.UV(t, 0), mesh.UV(t, 1)) / 255.0 / 3.0;
+      } catch (const Error& e) {  // a sampling coordinate that is not finite: name the face and its UV
         std::ostringstream s;
         s << "face " << f << " has texture coordinate " << t << " = (" << mesh.UV(t, 0) << ", "
-          << mesh.UV(t, 1) << "), which is not finite";
-        throw Error(s.str());
+          << mesh.UV(t, 1) << "): " << e.what();
+        throw Error(s.str(), e.kind());
       }
-      mean += image.sample_uv(mesh.UV(t, 0), mesh.UV(t, 1)) / 255.0 / 3.0;
     }
     rho[f] = (2.0 * mean - 1.0) * scale;  // [0, 1] → [−scale, scale]
   }
