@@ -41,19 +41,22 @@ Dll weighted_log_sum(std::span<const Mot> motors, std::span<const double> weight
   static constexpr Mot identity(1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);  // log = 0: fills unused lanes
   A acc[6] = {A::Zero(), A::Zero(), A::Zero(), A::Zero(), A::Zero(), A::Zero()};
   const std::size_t n = motors.size();
-  for (std::size_t i = 0; i < n;) {
-    const Mot* lane[4] = {&identity, &identity, &identity, &identity};
+  for (std::size_t i = 0; i < n; i += 4) {
+    // lane l holds motor i + l, or the identity past the end, at the skipped index and at a zero
+    // weight (so that a zero-weight motor is never read into the arithmetic)
+    const Mot* lane[4];
     [[maybe_unused]] Mot relative[4];
-    double w[4] = {0.0, 0.0, 0.0, 0.0};
-    for (int l = 0; l < 4 && i < n; ++i) {
-      if (weights[i] == 0.0 || i == skip) continue;
+    double w[4];
+    for (std::size_t l = 0; l < 4; ++l) {
+      const std::size_t k = i + l;
+      const bool used = k < n && k != skip && weights[k] != 0.0;
+      w[l] = used ? weights[k] : 0.0;
       if constexpr (Relative) {
-        relative[l] = motors[i] * x;
-        lane[l] = &relative[l];
+        if (used) relative[l] = motors[k] * x;
+        lane[l] = used ? &relative[l] : &identity;
       } else {
-        lane[l] = &motors[i];
+        lane[l] = used ? &motors[k] : &identity;
       }
-      w[l++] = weights[i];
     }
     // transpose into lanes, with the canonical sign (scalar part ≥ 0) applied without branches
     const A sign(std::copysign(1.0, (*lane[0])[0]), std::copysign(1.0, (*lane[1])[0]),

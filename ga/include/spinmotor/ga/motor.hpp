@@ -107,8 +107,8 @@ SPINMOTOR_GA_PURE bool positive_finite(const Eigen::ArrayBase<T>& x) noexcept {
   return x.minCoeff() > 0.0 && std::isfinite(x.sum());  // a NaN or inf lane makes the sum non-finite
 }
 
-/// atan(t) / t = 1 - S(t²) for |t| < 0.4375: the unreduced branch of fdlibm's s_atan.c (< 1 ulp),
-/// whose minimax coefficients are used here under this notice:
+/// atan(t) / t = 1 - S(z) as a function of z = t², for |t| < 0.4375: the unreduced branch of fdlibm's
+/// s_atan.c (< 1 ulp), whose minimax coefficients are used here under this notice:
 ///   Copyright (C) 1993 by Sun Microsystems, Inc. All rights reserved.
 ///   Developed at SunSoft, a Sun Microsystems, Inc. business.
 ///   Permission to use, copy, modify, and distribute this software is freely granted, provided that
@@ -116,17 +116,20 @@ SPINMOTOR_GA_PURE bool positive_finite(const Eigen::ArrayBase<T>& x) noexcept {
 /// (Not std::atan2: it does not vectorise, and glibc's atan2 wrapper is legacy-SSE code whose AVX-SSE
 /// transition stalls made the log blend 4x slower.)
 template <class T>
-SPINMOTOR_GA_PURE T atan_ratio(const T& t) noexcept {
+SPINMOTOR_GA_PURE T atan_ratio(const T& z) noexcept {
   constexpr double aT[11] = {
       3.33333333333329318027e-01,  -1.99999999998764832476e-01, 1.42857142725034663711e-01,
       -1.11111104054623557880e-01, 9.09088713343650656196e-02,  -7.69187620504482999495e-02,
       6.66107313738753120669e-02,  -5.83357013379057348645e-02, 4.97687799461593236017e-02,
       -3.65315727442169155270e-02, 1.62858201153657823623e-02};
-  const T z = t * t;
-  const T w = z * z;
-  const T s1 = z * (aT[0] + w * (aT[2] + w * (aT[4] + w * (aT[6] + w * (aT[8] + w * aT[10])))));
-  const T s2 = w * (aT[1] + w * (aT[3] + w * (aT[5] + w * (aT[7] + w * aT[9]))));
-  return 1.0 - (s1 + s2);
+  // S = z Σ_k aT[k] z^k by Estrin's scheme (four levels of independent products: a shorter dependency
+  // chain than Horner's ten, which the logarithm's latency is made of)
+  const T z2 = z * z, z4 = z2 * z2, z8 = z4 * z4;
+  const T c01 = aT[0] + z * aT[1], c23 = aT[2] + z * aT[3], c45 = aT[4] + z * aT[5];
+  const T c67 = aT[6] + z * aT[7], c89 = aT[8] + z * aT[9];
+  const T lo = (c01 + z2 * c23) + z4 * (c45 + z2 * c67);
+  const T hi = c89 + z2 * aT[10];
+  return 1.0 - z * (lo + z8 * hi);
 }
 
 /// The generators (Dll order) of motors given by their 8 components (Mot order) with scalar part
@@ -135,7 +138,9 @@ SPINMOTOR_GA_PURE T atan_ratio(const T& t) noexcept {
 ///   tan(φ/2) = b / P,   t = tan(φ/4) = b / (P + sqrt(P² + b²)) ∈ [0, tan(π/8)]
 /// put φ = 4 atan(t) in the range of fdlibm's polynomial atan(t) = t (1 - S(t²)), and
 ///   r = φ / b = 4 (1 - S) / (P + sqrt(P² + b²)) = 1 / (ρ sinc φ)
-/// needs no division by b (nor any branch): ω = r β, v·ω = r q, v = r u - g (v·ω) ω with
+/// needs no division by b (nor any branch), and t enters only as t² = b² / (P + sqrt(P² + b²))², so
+/// b = sqrt(b²) is never formed (the divider's square roots and divisions set the 4-lane kernel's
+/// throughput: docs/performance.md, "Log blend"): ω = r β, v·ω = r q, v = r u - g (v·ω) ω with
 /// g = ρ r c2(φ) = (s r - 1) / φ².
 template <class T>
 SPINMOTOR_GA_INLINE void log_kernel(const T (&m)[8], T (&out)[6]) {
@@ -144,14 +149,13 @@ SPINMOTOR_GA_INLINE void log_kernel(const T (&m)[8], T (&out)[6]) {
   if (!positive_finite(rho2)) throw Error("ga::log: the motor's rotor part is zero or not finite");
   const T p = lane_sqrt(rho2) + m[0];
   const T d = 1.0 / (p + lane_sqrt(p * p + b2));
-  const T t = lane_sqrt(b2) * d;        // tan(φ/4)
-  const T r = 4.0 * atan_ratio(t) * d;  // φ / b
-  const T phi = r * lane_sqrt(b2);
-  const T g = (m[0] * r - 1.0) / (phi * phi + 1e-300);  // the guard only turns 0/0 into 0 at φ = 0
-  out[0] = r * m[1];                                    // ω_z
-  out[1] = r * m[2];                                    // ω_y
-  out[2] = r * m[3];                                    // ω_x
-  const T gv = g * (r * m[7]);                          // g (v·ω)
+  const T z = b2 * (d * d);                              // t², t = tan(φ/4)
+  const T r = 4.0 * atan_ratio(z) * d;                   // φ / b
+  const T g = (m[0] * r - 1.0) / (r * r * b2 + 1e-300);  // / φ²; the guard turns 0/0 into 0 at φ = 0
+  out[0] = r * m[1];                                     // ω_z
+  out[1] = r * m[2];                                     // ω_y
+  out[2] = r * m[3];                                     // ω_x
+  const T gv = g * (r * m[7]);                           // g (v·ω)
   out[3] = r * m[4] - gv * out[2];
   out[4] = r * m[5] - gv * out[1];
   out[5] = r * m[6] - gv * out[0];
