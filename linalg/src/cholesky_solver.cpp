@@ -243,8 +243,8 @@ void BasicCholeskySolver<Scalar>::factorize(const SparseMatrix& A) {
   }
   cholmod_sparse s = Impl::view(A);
   {
-    // All cores for the BLAS of a large supernodal factor (blas_threads.hpp); lnz: from analyze().
-    const bool large = m.options.supernodal && m.common.lnz >= kThreadedBlasFactorNonzeros;
+    // All cores for the BLAS of a large supernodal factor (blas_threads.hpp); fl: from analyze().
+    const bool large = m.options.supernodal && m.common.fl >= kThreadedBlasFactorFlops;
     const ScopedBlasThreads blas(large ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))
                                        : 1);
     cholmod_factorize(&s, m.L, &m.common);

@@ -17,16 +17,18 @@
 // Large factors are the exception: a supernodal factorization with 104M nonzeros (the 1M-face spin
 // transformation) took 9.2–9.4 s with OpenBLAS on two threads against 11.3–11.5 s on one, 37M nonzeros
 // (400k faces) 2.9–3.7 s against 3.7–3.9 s, 8M (100k faces) 0.85–0.93 s against 0.74–0.86 s
-// (docs/performance.md, "1M-face spin transformation"). CholeskySolver::factorize gives its numeric
-// factorization all cores from kThreadedBlasFactorNonzeros on (ScopedBlasThreads), the solves stay on one.
-
+// (docs/performance.md, "1M-face spin transformation"). What decides is the size of the dense fronts,
+// which the flop count measures better than the nonzeros: the harmonic cage grid's factor (a 3D grid:
+// 29M nonzeros, 4.2e10 flops) gains from two threads where a surface's 37M-nonzero factor (1.7e10)
+// barely does. CholeskySolver::factorize gives its numeric factorization all cores from
+// kThreadedBlasFactorFlops on (ScopedBlasThreads), the solves stay on one.
 namespace spinmotor {
 
 bool use_single_threaded_blas();
 
-/// Factor size (nonzeros of L, complex entries counted once) from which a numeric factorization runs
-/// OpenBLAS on every core.
-inline constexpr double kThreadedBlasFactorNonzeros = 50e6;
+/// Factorization work (CHOLMOD's flop count from the symbolic analysis, Common::fl; a complex entry's
+/// operations counted once) from which a numeric factorization runs OpenBLAS on every core.
+inline constexpr double kThreadedBlasFactorFlops = 1e10;
 
 /// For its lifetime, OpenBLAS runs `threads` threads (then one again). Does nothing without OpenBLAS
 /// or when the user set OPENBLAS_NUM_THREADS. The setting is process-wide: another thread's BLAS calls
