@@ -85,6 +85,25 @@ std::string png_chunk_overrun(std::string& b) {
   return "";
 }
 
+/// For an uncompressed TGA (image types 1, 2, 3) whose header stb read as w × h: the bytes it lacks, as
+/// a message, or "" when the pixels fit in the file (or it is another format: stb zero-fills missing
+/// TGA pixels silently, so a cut-off download would otherwise become a black band of ρ). Run-length
+/// TGAs (types 9–11) are not checked: their size is only known by decoding.
+std::string tga_truncation(const std::string& b, int w, int h) {
+  if (b.size() < 18) return "";
+  const auto u8 = [&](std::size_t i) { return static_cast<std::uint64_t>(static_cast<unsigned char>(b[i])); };
+  const auto u16 = [&](std::size_t i) { return u8(i) | u8(i + 1) << 8; };
+  const std::uint64_t type = u8(2), cmap_type = u8(1);
+  if (type < 1 || type > 3 || cmap_type > 1) return "";
+  if (u16(12) != static_cast<std::uint64_t>(w) || u16(14) != static_cast<std::uint64_t>(h))
+    return "";  // not read as TGA
+  const std::uint64_t cmap_bytes = cmap_type ? u16(5) * ((u8(7) + 7) / 8) : 0;
+  const std::uint64_t need = 18 + u8(0) + cmap_bytes + u16(12) * u16(14) * ((u8(16) + 7) / 8);
+  if (need <= b.size()) return "";
+  return "TGA of " + std::to_string(w) + " x " + std::to_string(h) + " pixels at " + std::to_string(u8(16)) +
+         " bits needs " + std::to_string(need) + " bytes, the file has " + std::to_string(b.size());
+}
+
 }  // namespace
 
 GrayscaleImage read_grayscale_image(const std::filesystem::path& path) {
@@ -106,6 +125,8 @@ GrayscaleImage read_grayscale_image(const std::filesystem::path& path) {
     throw Error(who + "its header announces " + std::to_string(w) + " x " + std::to_string(h) +
                 " pixels, more than its " + std::to_string(bytes.size()) +
                 " bytes can hold (corrupt or truncated)");
+  if (const std::string cut = tga_truncation(bytes, w, h); !cut.empty())
+    throw Error(who + cut + " (truncated)");
   unsigned char* data = stbi_load_from_memory(data_in, size, &w, &h, &channels, 1);
   if (!data) {
     const char* why = stbi_failure_reason();

@@ -1,8 +1,11 @@
 // Spin transformations (Crane, Pinkall & Schröder 2011, §5–§6): identity for ρ = 0, the reference
 // SpinXForm case, convergence under refinement, boundary tangents (§5.7), input errors.
+#include <unistd.h>
+
 #include <Eigen/Dense>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -306,6 +309,32 @@ TEST_CASE("bad input gives clear errors", "[spin][errors]") {
   SECTION("unreadable image") {
     CHECK_THAT(message([&] { read_grayscale_image(kSpinDir + "sphere.obj"); }),
                Catch::Contains("sphere.obj"));
+  }
+  SECTION("an uncompressed TGA read whole, and refused when cut short") {
+    // 3 × 2 pixels, 8-bit grayscale (type 3), origin bottom-left: rows bottom-up as in GrayscaleImage.
+    std::string tga(18, '\0');
+    tga[2] = 3;
+    tga[12] = 3;
+    tga[14] = 2;
+    tga[16] = 8;
+    for (const int v : {10, 20, 30, 40, 50, 60}) tga.push_back(static_cast<char>(v));
+    const auto dir = std::filesystem::temp_directory_path();
+    const auto whole = dir / ("spinmotor_test_whole_" + std::to_string(::getpid()) + ".tga");
+    const auto cut = dir / ("spinmotor_test_cut_" + std::to_string(::getpid()) + ".tga");
+    std::ofstream(whole, std::ios::binary) << tga;
+    std::ofstream(cut, std::ios::binary) << tga.substr(0, tga.size() - 2);
+    const GrayscaleImage img = read_grayscale_image(whole);
+    REQUIRE(img.width == 3);
+    REQUIRE(img.height == 2);
+    CHECK(img.at(0, 0) == 10.f);
+    CHECK(img.at(2, 0) == 30.f);
+    CHECK(img.at(0, 1) == 40.f);
+    CHECK(img.at(2, 1) == 60.f);
+    const std::string why = message([&] { read_grayscale_image(cut); });
+    std::filesystem::remove(whole);
+    std::filesystem::remove(cut);
+    CHECK_THAT(why, Catch::Contains("spinmotor_test_cut_") &&
+                        Catch::Contains("needs 24 bytes, the file has 22") && Catch::Contains("truncated"));
   }
   SECTION("rho of the wrong size or not finite") {
     CHECK_THAT(message([&] { spin_transform(m, Eigen::VectorXd::Zero(3)); }), Catch::Contains("faces"));
