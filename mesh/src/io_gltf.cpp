@@ -390,8 +390,39 @@ struct PositionHash {
   }
 };
 
+/// The folders a glTF file may read side files from: its own (as named, and with symbolic links
+/// resolved), and what is below them.
+struct SideFileFolders {
+  std::vector<std::filesystem::path> roots;
+};
+
+/// tinygltf's file reader, restricted: a buffer URI ("../../x.bin", or a link out of the folder) must
+/// name a regular file in the glTF file's folder or below it. Without this a downloaded asset could
+/// read any file the user can (its bytes then surface in positions or error messages), or a device
+/// such as /dev/zero that never ends.
+bool read_side_file(std::vector<unsigned char>* out, std::string* err, const std::string& file, void* user) {
+  namespace fs = std::filesystem;
+  const auto& folders = *static_cast<const SideFileFolders*>(user);
+  std::error_code ec;
+  const fs::path p = fs::weakly_canonical(fs::path(file), ec);
+  const bool inside = !ec && std::any_of(folders.roots.begin(), folders.roots.end(), [&](const fs::path& r) {
+    const fs::path rel = p.lexically_relative(r);
+    return !rel.empty() && *rel.begin() != "..";
+  });
+  if (!inside) {
+    if (err) *err += "'" + file + "' is outside the glTF file's folder (side files must be in it or below)\n";
+    return false;
+  }
+  if (!fs::is_regular_file(p, ec)) {
+    if (err) *err += "'" + file + "' is not a regular file\n";
+    return false;
+  }
+  return tinygltf::ReadWholeFile(out, err, file, nullptr);
+}
+
 /// The parsed file (.gltf with data: URIs or side files, or .glb; images are not decoded). Throws Error
-/// "<file>: ..." for a missing file, another extension, or tinygltf's parse error.
+/// "<file>: ..." for a missing file, another extension, a side file outside the file's folder, or
+/// tinygltf's parse error.
 tinygltf::Model load_model(const std::filesystem::path& path) {
   const std::string file = path.string();
   if (!std::filesystem::exists(path)) throw Error(file + ": no such file");
@@ -400,6 +431,13 @@ tinygltf::Model load_model(const std::filesystem::path& path) {
     throw Error(file + ": not a glTF file (expected extension .gltf or .glb)");
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&ignore_image, nullptr);
+  SideFileFolders folders;
+  std::error_code ec;
+  for (const auto& dir : {std::filesystem::absolute(path, ec).parent_path(),
+                          std::filesystem::weakly_canonical(path, ec).parent_path()})
+    if (!dir.empty()) folders.roots.push_back(std::filesystem::weakly_canonical(dir, ec));
+  loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_side_file,
+                         &tinygltf::WriteWholeFile, &folders});
   tinygltf::Model model;
   std::string err, warn;
   const bool ok = ext == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, file)

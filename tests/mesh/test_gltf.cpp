@@ -286,6 +286,23 @@ TEST_CASE("gltf tiny rig: welding, per-corner UVs, renormalised weights, inverse
     CHECK(Eigen::MatrixXd(r.weights) == Eigen::MatrixXd(rig.weights));
     CHECK(r.animations.size() == 3);
   }
+
+  // A side file outside the glTF file's folder is refused, by a relative path or a symbolic link.
+  fs::create_directories(s.dir / "asset");
+  Tiny out = bar_rig();
+  std::ofstream(s.dir / "secret.bin", std::ios::binary)
+      .write(reinterpret_cast<const char*>(out.bin.data()), static_cast<std::streamsize>(out.bin.size()));
+  std::ofstream(s.dir / "asset" / "up.gltf") << out.with_buffer("../secret.bin").dump();
+  CHECK_THROWS_WITH(spinmotor::read_gltf(s.dir / "asset" / "up.gltf"),
+                    Catch::Contains("up.gltf") && Catch::Contains("outside the glTF file's folder"));
+  fs::create_symlink(s.dir / "secret.bin", s.dir / "asset" / "link.bin");
+  std::ofstream(s.dir / "asset" / "link.gltf") << out.with_buffer("link.bin").dump();
+  CHECK_THROWS_WITH(spinmotor::read_gltf(s.dir / "asset" / "link.gltf"),
+                    Catch::Contains("outside the glTF file's folder"));
+  // the same buffer in the folder reads
+  fs::copy_file(s.dir / "secret.bin", s.dir / "asset" / "inside.bin");
+  std::ofstream(s.dir / "asset" / "inside.gltf") << out.with_buffer("inside.bin").dump();
+  CHECK(spinmotor::read_gltf(s.dir / "asset" / "inside.gltf").mesh.V == rig.mesh.V);
 }
 
 TEST_CASE(
