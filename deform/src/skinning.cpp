@@ -230,6 +230,11 @@ SkinDeformer SkinDeformer::bind_rows(const Mesh& rest, std::span<const Bone> bon
     if (r.size() > 4) r.resize(4);
     double sum = 0.0;
     for (const auto& e : r) sum += e.second;
+    if (std::isinf(sum)) {  // finite weights near DBL_MAX: normalise them relative to the largest first
+      const double largest = r[0].second;
+      sum = 0.0;
+      for (auto& e : r) sum += (e.second /= largest);
+    }
     if (!(sum > 0.0))
       throw Error("SkinDeformer: vertex " + std::to_string(i) + " has no positive bone weight");
     for (std::size_t s = 0; s < r.size(); ++s) {

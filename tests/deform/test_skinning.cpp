@@ -273,7 +273,12 @@ TEST_CASE("skin: bind errors name the vertex or bone", "[skin]") {
   W(7, 1) = 0.0;
   W(7, 0) = 0.0;
   CHECK_THROWS_WITH(SkinDeformer::bind(m, bones, W, {}), Catch::Contains("vertex 7"));
+  // finite weights whose sum overflows are still normalised (not divided by inf into zeros)
+  W(7, 0) = W(7, 1) = 1e308;
+  CHECK(
+      MatrixXd(SkinDeformer::bind(m, bones, W, {}).weights()).row(7).isApprox(Eigen::RowVector2d(0.5, 0.5)));
   W(7, 0) = 1.0;
+  W(7, 1) = 0.0;
   SkinDeformer d = SkinDeformer::bind(m, bones, W, {});
   MatrixXd V;
   CHECK_THROWS_WITH(d.pose(std::vector<ga::Mot>{kId}, V), Catch::Contains("1 bone frames"));
