@@ -11,8 +11,11 @@
 // skipped, and a batch that was interrupted (or killed by a scheduler) resumes where it stopped by
 // running the same command again. One failing mesh does not stop the others; the exit code is the
 // worst one of the runs (0 all ok, 2 a bad input, 3 a numerical failure). Progress lines with elapsed
-// time and ETA go to stderr unless -q.
+// time and ETA go to stderr unless -q. SIGINT or SIGTERM (to the batch alone or to its process group)
+// stops it: nothing more is started, the running commands get the signal and remove their temporary
+// files, the summary counts the interrupted and the not-run inputs, and the exit code is 128 + signal.
 #include <fcntl.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -28,10 +31,12 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "command.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/interrupt.hpp"
 
 extern char** environ;
 
@@ -189,8 +194,18 @@ void run(const BatchArgs& a) {
               << " (" << duration(j.seconds) << ", exit " << j.exit_code << "); elapsed " << duration(elapsed)
               << (done < todo ? ", ETA " + duration(eta) : std::string()) << '\n';
   };
+  // SIGINT / SIGTERM: launch nothing more, pass the signal on to the running commands (a Ctrl-C in a
+  // terminal reaches them too; a scheduler's SIGTERM may reach the batch alone), wait for them (each
+  // removes its temporaries: remove_temporary_files_on_signal), report, exit 128 + signal. Running the
+  // same command again resumes.
+  const InterruptGuard guard;
+  bool forwarded = false;
   while (true) {
-    while (static_cast<int>(running.size()) < std::max(1, a.jobs) && next < jobs.size()) {
+    if (const int sig = interrupted(); sig && !forwarded) {
+      for (const auto& [pid, job] : running) ::kill(pid, sig);
+      forwarded = true;
+    }
+    while (!interrupted() && static_cast<int>(running.size()) < std::max(1, a.jobs) && next < jobs.size()) {
       Job& j = jobs[next];
       if (j.status == "pending") {
         std::vector<std::string> args;
@@ -201,14 +216,18 @@ void run(const BatchArgs& a) {
     }
     if (running.empty()) break;
     int status = 0;
-    const pid_t pid = waitpid(-1, &status, 0);
+    const pid_t pid = waitpid(-1, &status, WNOHANG);  // polled, so that a signal is seen at once
     if (pid < 0) throw numerical_error("batch: waitpid failed");
+    if (pid == 0) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      continue;
+    }
     auto it = running.find(pid);
     if (it == running.end()) continue;
     Job& j = jobs[it->second.first];
     j.seconds = std::chrono::duration<double>(Clock::now() - it->second.second).count();
     j.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    j.status = j.exit_code == 0 ? "ok" : "failed";
+    j.status = j.exit_code == 0 ? "ok" : interrupted() ? "interrupted" : "failed";
     running.erase(it);
     ++done;
     report_progress(j);
@@ -230,20 +249,33 @@ void run(const BatchArgs& a) {
   }
   const double total = std::chrono::duration<double>(Clock::now() - t0).count();
   if (a.json) {
-    std::cout
-        << nlohmann::json{{"inputs", jobs.size()},      {"ok", counts["ok"]}, {"skipped", counts["skipped"]},
-                          {"failed", counts["failed"]}, {"seconds", total},   {"runs", runs}}
-               .dump(2)
-        << '\n';
+    std::cout << nlohmann::json{{"inputs", jobs.size()},
+                                {"ok", counts["ok"]},
+                                {"skipped", counts["skipped"]},
+                                {"failed", counts["failed"]},
+                                {"interrupted", counts["interrupted"]},
+                                {"not_run", counts["pending"]},
+                                {"seconds", total},
+                                {"runs", runs}}
+                     .dump(2)
+              << '\n';
   } else if (!a.quiet) {
     std::cout << "batch: " << jobs.size() << " inputs: " << counts["ok"] << " ok, " << counts["skipped"]
-              << " skipped (output exists), " << counts["failed"] << " failed, in " << duration(total)
-              << '\n';
+              << " skipped (output exists), " << counts["failed"] << " failed"
+              << (interrupted() ? ", " + std::to_string(counts["interrupted"]) + " interrupted, " +
+                                      std::to_string(counts["pending"]) + " not run"
+                                : std::string())
+              << ", in " << duration(total) << '\n';
     for (const Job& j : jobs)
       if (j.status == "failed")
         std::cout << "  failed (exit " << j.exit_code << "): " << j.input.string() << ", see "
                   << j.log.string() << '\n';
   }
+  if (const int sig = interrupted())
+    throw Interrupted(sig, "batch stopped with " + std::to_string(counts["ok"]) + " of " +
+                               std::to_string(jobs.size()) +
+                               " outputs written; run the same command again "
+                               "to resume");
   if (worst != 0)
     throw Error("batch: " + std::to_string(counts["failed"]) + " of " + std::to_string(jobs.size()) +
                     " runs failed (logs in " + logs.string() + ")",

@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "command.hpp"
+#include "spinmotor/core/atomic_file.hpp"
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/core/interrupt.hpp"
 #include "spinmotor/core/memory_budget.hpp"
@@ -16,6 +17,7 @@ std::vector<Command>& commands() {
 
 int main(int argc, char** argv) {
   using namespace spinmotor;
+  remove_temporary_files_on_signal();  // a Ctrl-C while writing leaves no temporary behind
   CLI::App app{"spinmotor: deform triangle meshes with CGA motors and snap edits onto spin transformations"};
   app.set_version_flag("--version", std::string("spinmotor ") + SPINMOTOR_VERSION);
   app.require_subcommand(1);

@@ -1,6 +1,7 @@
 #include "spinmotor/core/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -42,7 +43,48 @@ void sync_file(const fs::path& p) {
   ::close(fd);
 }
 
+// The temporaries in flight, for the signal handler: fixed storage (no allocation, nothing the handler
+// cannot read), a slot's path published by its state (0 free, 1 being filled, 2 readable).
+constexpr int kSlots = 64;
+constexpr std::size_t kPathBytes = 4096;
+struct TempSlot {
+  std::atomic<int> state{0};
+  char path[kPathBytes];
+};
+TempSlot g_slots[kSlots];
+
+int track_temporary(const fs::path& p) {
+  const std::string& s = p.native();
+  if (s.size() >= kPathBytes) return -1;
+  for (int i = 0; i < kSlots; ++i) {
+    int expected = 0;
+    if (!g_slots[i].state.compare_exchange_strong(expected, 1)) continue;
+    std::memcpy(g_slots[i].path, s.c_str(), s.size() + 1);
+    g_slots[i].state.store(2);
+    return i;
+  }
+  return -1;
+}
+
+void untrack_temporary(int slot) {
+  if (slot >= 0) g_slots[slot].state.store(0);
+}
+
+extern "C" void remove_temporaries_and_reraise(int sig) {
+  for (TempSlot& t : g_slots)
+    if (t.state.load() == 2) ::unlink(t.path);  // async-signal-safe
+  ::signal(sig, SIG_DFL);
+  ::raise(sig);
+}
+
 }  // namespace
+
+void remove_temporary_files_on_signal() {
+  struct sigaction sa = {};
+  sa.sa_handler = remove_temporaries_and_reraise;
+  sigemptyset(&sa.sa_mask);
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
+}
 
 AtomicFile::AtomicFile(fs::path target, bool binary) : target_(std::move(target)) {
   if (target_.empty() || !target_.has_filename())
@@ -57,20 +99,25 @@ AtomicFile::AtomicFile(fs::path target, bool binary) : target_(std::move(target)
   }
   if (fs::is_directory(target_)) throw Error("cannot write '" + target_.string() + "': it is a directory");
   temp_ = temporary_name(target_);
+  slot_ = track_temporary(temp_);  // before the file exists: a signal from here on removes it
   std::ios::openmode mode = std::ios::out | std::ios::trunc;
   if (binary) mode |= std::ios::binary;
   errno = 0;
   out_.open(temp_, mode);
-  if (!out_)
+  if (!out_) {
+    untrack_temporary(slot_);
     throw Error("cannot open '" + temp_.string() + "' for writing (next to '" + target_.string() +
                 "'): " + (errno ? std::strerror(errno) : "unknown error"));
+  }
 }
 
 AtomicFile::~AtomicFile() {
-  if (committed_) return;
-  if (out_.is_open()) out_.close();
-  std::error_code ec;
-  fs::remove(temp_, ec);  // never throws from a destructor; the temporary may not exist
+  if (!committed_) {
+    if (out_.is_open()) out_.close();
+    std::error_code ec;
+    fs::remove(temp_, ec);  // never throws from a destructor; the temporary may not exist
+  }
+  untrack_temporary(slot_);
 }
 
 void AtomicFile::commit() {
@@ -93,6 +140,8 @@ void AtomicFile::commit() {
                 "': rename of the temporary file failed: " + ec.message());
   }
   committed_ = true;
+  untrack_temporary(slot_);
+  slot_ = -1;
 }
 
 void write_text_atomic(const fs::path& path, std::string_view text) {

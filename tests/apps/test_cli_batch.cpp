@@ -1,5 +1,7 @@
 // `spinmotor batch`: one process per mesh, failures isolated (exit code = the worst), outputs only for
-// the meshes that succeeded, and a second run skips the outputs that exist (resumable).
+// the meshes that succeeded, and a second run skips the outputs that exist (resumable); a SIGTERM to
+// the batch alone stops it and the command it runs, with nothing half-written left behind.
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -10,7 +12,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <thread>
 
+#include "cli_support.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
 
@@ -84,6 +88,59 @@ TEST_CASE("batch runs one process per mesh, isolates failures and resumes", "[cl
   CHECK(run_cli(dir, "batch --run \"spin {in} --rho-expr '0.5 --out {out}\" --out-dir out in/sphere.obj")
             .code == 2);
   fs::remove_all(dir);
+}
+
+namespace {
+
+/// The first child of `pid` (from /proc), or 0.
+pid_t first_child(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/task/" + std::to_string(pid) + "/children");
+  long child = 0;
+  return in >> child ? static_cast<pid_t>(child) : 0;
+}
+
+/// True once `pid` catches `sig` (SigCgt of /proc/PID/status).
+bool catches(pid_t pid, int sig) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("SigCgt:", 0) == 0) return (std::stoull(line.substr(7), nullptr, 16) >> (sig - 1)) & 1;
+  return false;
+}
+
+}  // namespace
+
+TEST_CASE("batch stopped by SIGTERM: the running command is stopped too, exit 143, nothing half-written",
+          "[cli][batch][interrupt]") {
+  spinmotor_test::TempDir tmp;
+  const fs::path& dir = tmp.path;
+  fs::create_directories(dir / "in");
+  for (const char* name : {"a.obj", "b.obj", "c.obj"})
+    spinmotor::write_mesh(dir / "in" / name, spinmotor::icosphere(3));
+  // one at a time, each run far longer than the test waits
+  std::vector<std::string> argv = {SPINMOTOR_CLI, "batch",
+                                   "-j",          "1",
+                                   "--out-dir",   (dir / "out").string(),
+                                   "--run",       "flow {in} --willmore 0.01 --steps 1000000 --out {out}"};
+  for (const char* name : {"a.obj", "b.obj", "c.obj"}) argv.push_back((dir / "in" / name).string());
+  const pid_t batch = spinmotor_test::spawn(argv, dir / "stdout.txt", dir / "stderr.txt");
+  const auto t0 = std::chrono::steady_clock::now();
+  pid_t child = 0;
+  while (!((child = first_child(batch)) && catches(batch, SIGTERM) && catches(child, SIGTERM)) &&
+         !spinmotor_test::has_exited(batch) &&
+         std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  REQUIRE(child != 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // a few steps in
+  REQUIRE(::kill(batch, SIGTERM) == 0);                         // the batch alone, as a scheduler does
+  const int code = spinmotor_test::wait_exit(batch);
+  const std::string err = slurp(dir / "stderr.txt");
+  INFO(err << slurp(dir / "stdout.txt"));
+  CHECK(code == 143);
+  CHECK_THAT(err, Catch::Contains("interrupted by SIGTERM: batch stopped with 0 of 3 outputs written"));
+  CHECK_THAT(slurp(dir / "stdout.txt"), Catch::Contains("1 interrupted, 2 not run"));
+  CHECK(::kill(child, 0) != 0);  // the command it ran is gone (and reaped by the batch)
+  // nothing but the logs in the output folder: no mesh, no temporary
+  for (const auto& e : fs::directory_iterator(dir / "out")) CHECK(e.path().filename() == "logs");
 }
 
 }  // namespace test_cli_batch

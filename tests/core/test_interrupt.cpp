@@ -1,9 +1,14 @@
 // core/interrupt.hpp: a signal inside a guarded scope is recorded (not acted on), the first one is
-// kept, and the handlers that were installed before the guard are back after it.
+// kept, and the handlers that were installed before the guard are back after it; a signal that ends
+// the process while an AtomicFile is open leaves no temporary (remove_temporary_files_on_signal).
 #include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <catch2/catch.hpp>
+#include <filesystem>
 
+#include "spinmotor/core/atomic_file.hpp"
 #include "spinmotor/core/interrupt.hpp"
 
 namespace test_interrupt {
@@ -66,6 +71,36 @@ TEST_CASE("InterruptGuard restores the previous handlers and clears the flag of 
   }
   sigaction(SIGINT, &saved_int, nullptr);
   sigaction(SIGTERM, &saved_term, nullptr);
+}
+
+TEST_CASE("a signal while files are written removes their temporaries and ends the process by that signal",
+          "[core][interrupt][atomic_file]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("spinmotor_signal_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (const int sig : {SIGINT, SIGTERM}) {
+    const pid_t pid = ::fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {  // the child: two files in flight, then the signal (as from a Ctrl-C)
+      remove_temporary_files_on_signal();
+      AtomicFile a(dir / "a.obj"), b(dir / "b.obj");
+      a.stream() << "v 0 0 0\n";
+      a.stream().flush();
+      int files = 0;
+      for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
+      if (files != 2) ::_exit(3);  // both temporaries must exist before the signal
+      ::raise(sig);
+      ::_exit(4);  // not reached: the handler ends the process by the signal
+    }
+    int status = 0;
+    REQUIRE(::waitpid(pid, &status, 0) == pid);
+    INFO("signal " << sig << ", status " << status);
+    REQUIRE(WIFSIGNALED(status));
+    CHECK(WTERMSIG(status) == sig);
+    CHECK(fs::is_empty(dir));
+  }
+  fs::remove_all(dir);
 }
 
 }  // namespace test_interrupt

@@ -46,9 +46,19 @@ class AtomicFile {
   std::filesystem::path temp_;
   std::ofstream out_;
   bool committed_ = false;
+  int slot_ = -1;  ///< entry in the table remove_temporary_files_on_signal() reads, or -1
 };
 
 /// Writes `text` to `path` atomically (via AtomicFile). Throws Error naming the path on failure.
 void write_text_atomic(const std::filesystem::path& path, std::string_view text);
+
+/// For a program's main(): from now on SIGINT, SIGTERM and SIGHUP remove the temporary files of the
+/// AtomicFiles in flight, then end the process by the same signal (its default action: the parent sees
+/// "killed by SIGINT", as without the handler). Without it a Ctrl-C while a mesh is written leaves a
+/// ".<name>.<pid>...tmp" next to the target (the target itself is never half-written either way).
+/// An InterruptGuard (interrupt.hpp) replaces these handlers for its lifetime and restores them.
+/// Up to 64 temporaries in flight are tracked (more are still removed by their destructors, but not
+/// on a signal).
+void remove_temporary_files_on_signal();
 
 }  // namespace spinmotor
