@@ -76,7 +76,6 @@ class SceneRunner {
 struct RunResult {
   double bind_ms = 0;
   std::vector<FrameResult> frames;
-  std::vector<std::string> warnings;  ///< notes for the user
 };
 
 /// Called after the bind (frame = 0) and after each frame (frame = 1..frames) with the seconds since
