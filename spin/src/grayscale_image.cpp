@@ -85,23 +85,43 @@ std::string png_chunk_overrun(std::string& b) {
   return "";
 }
 
-/// For an uncompressed TGA (image types 1, 2, 3) whose header stb read as w × h: the bytes it lacks, as
-/// a message, or "" when the pixels fit in the file (or it is another format: stb zero-fills missing
-/// TGA pixels silently, so a cut-off download would otherwise become a black band of ρ). Run-length
-/// TGAs (types 9–11) are not checked: their size is only known by decoding.
+/// For a TGA whose header stb read as w × h: the bytes it lacks, as a message, or "" when its pixels fit
+/// in the file (or it is another format). stb zero-fills the pixels a TGA lacks silently, so a cut-off
+/// download would otherwise become a black band of ρ. Uncompressed TGAs (types 1–3) need w h (bits/8)
+/// bytes of pixels; run-length ones (types 9–11) are walked packet by packet (a header byte, then one
+/// pixel for a run of up to 128 or up to 128 literal pixels) until w h pixels are covered.
 std::string tga_truncation(const std::string& b, int w, int h) {
   if (b.size() < 18) return "";
   const auto u8 = [&](std::size_t i) { return static_cast<std::uint64_t>(static_cast<unsigned char>(b[i])); };
   const auto u16 = [&](std::size_t i) { return u8(i) | u8(i + 1) << 8; };
   const std::uint64_t type = u8(2), cmap_type = u8(1);
-  if (type < 1 || type > 3 || cmap_type > 1) return "";
+  const bool rle = type >= 9 && type <= 11;
+  if (!(rle || (type >= 1 && type <= 3)) || cmap_type > 1) return "";
   if (u16(12) != static_cast<std::uint64_t>(w) || u16(14) != static_cast<std::uint64_t>(h))
     return "";  // not read as TGA
   const std::uint64_t cmap_bytes = cmap_type ? u16(5) * ((u8(7) + 7) / 8) : 0;
-  const std::uint64_t need = 18 + u8(0) + cmap_bytes + u16(12) * u16(14) * ((u8(16) + 7) / 8);
-  if (need <= b.size()) return "";
-  return "TGA of " + std::to_string(w) + " x " + std::to_string(h) + " pixels at " + std::to_string(u8(16)) +
-         " bits needs " + std::to_string(need) + " bytes, the file has " + std::to_string(b.size());
+  const std::uint64_t pixel_bytes = (u8(16) + 7) / 8, pixels = u16(12) * u16(14);
+  const std::uint64_t start = 18 + u8(0) + cmap_bytes;
+  const std::string what = "TGA of " + std::to_string(w) + " x " + std::to_string(h) + " pixels at " +
+                           std::to_string(u8(16)) + " bits ";
+  if (!rle) {
+    const std::uint64_t need = start + pixels * pixel_bytes;
+    if (need <= b.size()) return "";
+    return what + "needs " + std::to_string(need) + " bytes, the file has " + std::to_string(b.size());
+  }
+  std::uint64_t at = start, covered = 0;
+  while (covered < pixels) {
+    if (at >= b.size())
+      return what + "(run-length) ends after " + std::to_string(covered) + " of its " +
+             std::to_string(pixels) + " pixels";
+    const std::uint64_t head = u8(at), count = (head & 0x7f) + 1;
+    at += 1 + (head & 0x80 ? 1 : count) * pixel_bytes;
+    covered += count;
+    if (at > b.size())
+      return what + "(run-length) ends inside a packet, after " + std::to_string(covered - count) +
+             " of its " + std::to_string(pixels) + " pixels";
+  }
+  return "";
 }
 
 }  // namespace

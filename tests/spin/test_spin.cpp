@@ -336,6 +336,34 @@ TEST_CASE("bad input gives clear errors", "[spin][errors]") {
     CHECK_THAT(why, Catch::Contains("spinmotor_test_cut_") &&
                         Catch::Contains("needs 24 bytes, the file has 22") && Catch::Contains("truncated"));
   }
+  SECTION("a run-length TGA read whole, and refused when cut short") {
+    // the same 3 × 2 image as type 11 (run-length grayscale): a run of 2 × 10, 1 literal 30, then a
+    // literal packet of 40, 50, 60
+    std::string tga(18, '\0');
+    tga[2] = 11;
+    tga[12] = 3;
+    tga[14] = 2;
+    tga[16] = 8;
+    for (const int v : {0x81, 10, 0x00, 30, 0x02, 40, 50, 60}) tga.push_back(static_cast<char>(v));
+    const auto dir = std::filesystem::temp_directory_path();
+    const auto whole = dir / ("spinmotor_test_rle_whole_" + std::to_string(::getpid()) + ".tga");
+    const auto cut = dir / ("spinmotor_test_rle_cut_" + std::to_string(::getpid()) + ".tga");
+    const auto early = dir / ("spinmotor_test_rle_early_" + std::to_string(::getpid()) + ".tga");
+    std::ofstream(whole, std::ios::binary) << tga;
+    std::ofstream(cut, std::ios::binary) << tga.substr(0, tga.size() - 1);    // inside the last packet
+    std::ofstream(early, std::ios::binary) << tga.substr(0, tga.size() - 4);  // before the last packet
+    const GrayscaleImage img = read_grayscale_image(whole);
+    REQUIRE(img.width == 3);
+    CHECK(img.at(0, 0) == 10.f);
+    CHECK(img.at(1, 0) == 10.f);
+    CHECK(img.at(2, 0) == 30.f);
+    CHECK(img.at(2, 1) == 60.f);
+    const std::string why_cut = message([&] { read_grayscale_image(cut); });
+    const std::string why_early = message([&] { read_grayscale_image(early); });
+    for (const auto& f : {whole, cut, early}) std::filesystem::remove(f);
+    CHECK_THAT(why_cut, Catch::Contains("ends inside a packet, after 3 of its 6 pixels"));
+    CHECK_THAT(why_early, Catch::Contains("ends after 3 of its 6 pixels"));
+  }
   SECTION("rho of the wrong size or not finite") {
     CHECK_THAT(message([&] { spin_transform(m, Eigen::VectorXd::Zero(3)); }), Catch::Contains("faces"));
     Eigen::VectorXd bad = rho0;

@@ -30,7 +30,7 @@ struct GrayscaleImage {
 
 /// Reads a TGA or PNG image (any format stb_image decodes) as grayscale. Throws Error naming the file
 /// if it cannot be opened or decoded, is empty, announces more pixels than its bytes can hold, or is an
-/// uncompressed TGA shorter than its header announces (truncated).
+/// TGA (uncompressed or run-length) that ends before the pixels its header announces (truncated).
 GrayscaleImage read_grayscale_image(const std::filesystem::path& path);
 
 }  // namespace spinmotor
