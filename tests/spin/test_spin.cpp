@@ -310,59 +310,40 @@ TEST_CASE("bad input gives clear errors", "[spin][errors]") {
     CHECK_THAT(message([&] { read_grayscale_image(kSpinDir + "sphere.obj"); }),
                Catch::Contains("sphere.obj"));
   }
-  SECTION("an uncompressed TGA read whole, and refused when cut short") {
-    // 3 × 2 pixels, 8-bit grayscale (type 3), origin bottom-left: rows bottom-up as in GrayscaleImage.
-    std::string tga(18, '\0');
-    tga[2] = 3;
-    tga[12] = 3;
-    tga[14] = 2;
-    tga[16] = 8;
-    for (const int v : {10, 20, 30, 40, 50, 60}) tga.push_back(static_cast<char>(v));
-    const auto dir = std::filesystem::temp_directory_path();
-    const auto whole = dir / ("spinmotor_test_whole_" + std::to_string(::getpid()) + ".tga");
-    const auto cut = dir / ("spinmotor_test_cut_" + std::to_string(::getpid()) + ".tga");
-    std::ofstream(whole, std::ios::binary) << tga;
-    std::ofstream(cut, std::ios::binary) << tga.substr(0, tga.size() - 2);
-    const GrayscaleImage img = read_grayscale_image(whole);
-    REQUIRE(img.width == 3);
-    REQUIRE(img.height == 2);
-    CHECK(img.at(0, 0) == 10.f);
-    CHECK(img.at(2, 0) == 30.f);
-    CHECK(img.at(0, 1) == 40.f);
-    CHECK(img.at(2, 1) == 60.f);
-    const std::string why = message([&] { read_grayscale_image(cut); });
-    std::filesystem::remove(whole);
-    std::filesystem::remove(cut);
-    CHECK_THAT(why, Catch::Contains("spinmotor_test_cut_") &&
-                        Catch::Contains("needs 24 bytes, the file has 22") && Catch::Contains("truncated"));
-  }
-  SECTION("a run-length TGA read whole, and refused when cut short") {
-    // the same 3 × 2 image as type 11 (run-length grayscale): a run of 2 × 10, 1 literal 30, then a
-    // literal packet of 40, 50, 60
-    std::string tga(18, '\0');
-    tga[2] = 11;
-    tga[12] = 3;
-    tga[14] = 2;
-    tga[16] = 8;
-    for (const int v : {0x81, 10, 0x00, 30, 0x02, 40, 50, 60}) tga.push_back(static_cast<char>(v));
-    const auto dir = std::filesystem::temp_directory_path();
-    const auto whole = dir / ("spinmotor_test_rle_whole_" + std::to_string(::getpid()) + ".tga");
-    const auto cut = dir / ("spinmotor_test_rle_cut_" + std::to_string(::getpid()) + ".tga");
-    const auto early = dir / ("spinmotor_test_rle_early_" + std::to_string(::getpid()) + ".tga");
-    std::ofstream(whole, std::ios::binary) << tga;
-    std::ofstream(cut, std::ios::binary) << tga.substr(0, tga.size() - 1);    // inside the last packet
-    std::ofstream(early, std::ios::binary) << tga.substr(0, tga.size() - 4);  // before the last packet
-    const GrayscaleImage img = read_grayscale_image(whole);
-    REQUIRE(img.width == 3);
-    CHECK(img.at(0, 0) == 10.f);
-    CHECK(img.at(1, 0) == 10.f);
-    CHECK(img.at(2, 0) == 30.f);
-    CHECK(img.at(2, 1) == 60.f);
-    const std::string why_cut = message([&] { read_grayscale_image(cut); });
-    const std::string why_early = message([&] { read_grayscale_image(early); });
-    for (const auto& f : {whole, cut, early}) std::filesystem::remove(f);
-    CHECK_THAT(why_cut, Catch::Contains("ends inside a packet, after 3 of its 6 pixels"));
-    CHECK_THAT(why_early, Catch::Contains("ends after 3 of its 6 pixels"));
+  SECTION("TGAs read whole, and refused when cut short (uncompressed and run-length)") {
+    // A 3 × 2, 8-bit grayscale TGA of type `type` with pixel bytes `body`, less its last `drop` bytes,
+    // written to a scratch file. Origin bottom-left: rows bottom-up, as in GrayscaleImage.
+    std::vector<std::filesystem::path> files;
+    auto tga = [&](int type, std::initializer_list<int> body, std::size_t drop) {
+      std::string t(18, '\0');
+      t[2] = static_cast<char>(type);
+      t[12] = 3;
+      t[14] = 2;
+      t[16] = 8;
+      for (const int v : body) t.push_back(static_cast<char>(v));
+      files.push_back(
+          std::filesystem::temp_directory_path() /
+          ("spinmotor_test_tga_" + std::to_string(::getpid()) + "_" + std::to_string(files.size()) + ".tga"));
+      std::ofstream(files.back(), std::ios::binary) << t.substr(0, t.size() - drop);
+      return files.back();
+    };
+    const std::initializer_list<int> raw = {10, 20, 30, 40, 50, 60};
+    // type 11: a run of 2 × 10, a literal 30, then 3 literals 40, 50, 60 (a different first row)
+    const std::initializer_list<int> rle = {0x81, 10, 0x00, 30, 0x02, 40, 50, 60};
+    const GrayscaleImage a = read_grayscale_image(tga(3, raw, 0)), b = read_grayscale_image(tga(11, rle, 0));
+    REQUIRE((a.width == 3 && a.height == 2 && b.width == 3 && b.height == 2));
+    CHECK(a.pixels == Eigen::Vector<float, 6>(10, 20, 30, 40, 50, 60));
+    CHECK(b.pixels == Eigen::Vector<float, 6>(10, 10, 30, 40, 50, 60));
+    const std::string raw_cut = message([&] { read_grayscale_image(tga(3, raw, 2)); });
+    const std::string rle_cut =
+        message([&] { read_grayscale_image(tga(11, rle, 1)); });  // in the last packet
+    const std::string rle_early = message([&] { read_grayscale_image(tga(11, rle, 4)); });  // before it
+    for (const auto& f : files) std::filesystem::remove(f);
+    CHECK_THAT(raw_cut, Catch::Contains("spinmotor_test_tga_") &&
+                            Catch::Contains("needs 24 bytes, the file has 22") &&
+                            Catch::Contains("truncated"));
+    CHECK_THAT(rle_cut, Catch::Contains("ends inside a packet, after 3 of its 6 pixels"));
+    CHECK_THAT(rle_early, Catch::Contains("ends after 3 of its 6 pixels"));
   }
   SECTION("rho of the wrong size or not finite") {
     CHECK_THAT(message([&] { spin_transform(m, Eigen::VectorXd::Zero(3)); }), Catch::Contains("faces"));
