@@ -1,10 +1,12 @@
 #include "spinmotor/linalg/cholesky_solver.hpp"
 
 #include <cholmod.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -12,6 +14,7 @@
 
 #include "solver_detail.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/huge_pages.hpp"
 #include "spinmotor/core/memory_budget.hpp"
 #include "spinmotor/linalg/blas_threads.hpp"
 
@@ -23,6 +26,39 @@ constexpr double kSingularPivot = 1e3 * std::numeric_limits<double>::epsilon();
 // overall at 100k, METIS at 1M).
 constexpr Eigen::Index kAutoMetisRows = 500000;
 constexpr const char* kWho = "CholeskySolver";
+
+// CHOLMOD allocates through SuiteSparse_config's function pointers (process-wide). Pointing them at
+// the huge-page variants of malloc/calloc/realloc (core/huge_pages.hpp) puts a factor's values on
+// 2 MiB pages where the kernel allows it: its zeroing in cholmod_super_numeric was most of the page
+// faults of a bind (docs/performance.md, "Page faults and huge pages"). The memory is std::malloc's,
+// so free_func stays std::free and blocks allocated before the switch (or by another CHOLMOD user in
+// the process) are freed correctly. Set once, before the first CHOLMOD call of this library.
+// CHOLMOD's supernodal factorization (SuiteSparse 5) opens OpenMP regions of a fixed 4 threads
+// (CHOLMOD_OMP_NUM_THREADS, compiled in) to zero and scatter into each large enough supernode. On two
+// cores that is a fork/join of 4 threads per supernode, thousands per factorization, each a round of
+// futex wake-ups and yields (perf: a fifth of the 80k-vertex harmonic bind; serial, the bind took
+// 250 ms against 367 ms, the 64-grid cage bind 3.39 s against 3.65-4.0 s). For its lifetime this
+// makes OpenMP regions opened by the calling thread run on that thread alone (max-active-levels is an
+// ICV of the thread's task, so other threads' loops keep their threads).
+class ScopedSerialOpenMP {
+ public:
+  ScopedSerialOpenMP() : previous_(omp_get_max_active_levels()) { omp_set_max_active_levels(0); }
+  ~ScopedSerialOpenMP() { omp_set_max_active_levels(previous_); }
+  ScopedSerialOpenMP(const ScopedSerialOpenMP&) = delete;
+  ScopedSerialOpenMP& operator=(const ScopedSerialOpenMP&) = delete;
+
+ private:
+  int previous_;
+};
+
+void use_huge_pages_in_cholmod() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    SuiteSparse_config.malloc_func = malloc_huge;
+    SuiteSparse_config.calloc_func = calloc_huge;
+    SuiteSparse_config.realloc_func = realloc_huge;
+  });
+}
 }  // namespace
 
 template <class Scalar>
@@ -42,6 +78,7 @@ struct BasicCholeskySolver<Scalar>::Impl {
 
   explicit Impl(const Options& o) : options(o) {
     use_single_threaded_blas();
+    use_huge_pages_in_cholmod();
     cholmod_start(&common);
     common.print = 0;  // failures are reported by our exceptions, not on stderr
     common.error_handler = nullptr;
@@ -247,6 +284,8 @@ void BasicCholeskySolver<Scalar>::factorize(const SparseMatrix& A) {
     const bool large = m.options.supernodal && m.common.fl >= kThreadedBlasFactorFlops;
     const ScopedBlasThreads blas(large ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))
                                        : 1);
+    const BlasCallScope call;
+    const ScopedSerialOpenMP serial;
     cholmod_factorize(&s, m.L, &m.common);
   }
   m.check_status("factorize");
@@ -302,7 +341,11 @@ typename BasicCholeskySolver<Scalar>::Matrix BasicCholeskySolver<Scalar>::solve(
                   : system == System::Lt ? CHOLMOD_Lt
                   : system == System::P  ? CHOLMOD_P
                                          : CHOLMOD_Pt;
-  cholmod_dense* x = cholmod_solve(sys, m.L, &b, &m.common);
+  cholmod_dense* x = nullptr;
+  {
+    const BlasCallScope call;
+    x = cholmod_solve(sys, m.L, &b, &m.common);
+  }
   if (!x) m.check_status("solve"), throw numerical_error(std::string(kWho) + ": CHOLMOD solve failed");
   const Scalar* xs = static_cast<const Scalar*>(x->x);
   for (Eigen::Index j = 0; j < X.cols(); ++j)

@@ -9,6 +9,7 @@
 
 #include "solver_detail.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/linalg/blas_threads.hpp"
 
 namespace spinmotor {
 namespace {
@@ -158,6 +159,7 @@ void LUSolver::factorize(const Eigen::SparseMatrix<double>& A) {
   SuperLUStat_t stat;
   StatInit(&stat);
   int info = 0;
+  const BlasCallScope call;  // SuperLU's BLAS (blas_threads.hpp)
   dgstrf(&m.slu, &AC, sp_ienv(2), sp_ienv(1), m.etree.data(), nullptr, 0, m.perm_c.data(), m.perm_r.data(),
          &m.L, &m.U, &m.glu, &stat, &info);
   Destroy_CompCol_Permuted(&AC);
@@ -239,6 +241,7 @@ Eigen::MatrixXd LUSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& B) cons
   SuperLUStat_t stat;
   StatInit(&stat);
   int info = 0;
+  const BlasCallScope call;  // SuperLU's BLAS (blas_threads.hpp)
   dgstrs(NOTRANS, &m.L, &m.U, m.perm_c.data(), m.perm_r.data(), &b, &stat, &info);
   StatFree(&stat);
   Destroy_SuperMatrix_Store(&b);

@@ -1,20 +1,28 @@
 // The one CHOLMOD wrapper (linalg/cholesky_solver.hpp) for real symmetric and complex Hermitian
 // matrices: agreement with dense factorizations, the partial solves (P, L, Lᴴ, Pᵀ) that Spectra's
 // Cholesky mode uses, and the one singularity rule (smallest pivot ≤ 1000·ε·max diagonal) on matrices
-// whose pivots are known in closed form.
+// whose pivots are known in closed form; the BLAS thread policy (blas_threads.hpp) under concurrent
+// factorizations.
+#include <sys/resource.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
+#include <atomic>
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <cmath>
 #include <complex>
+#include <fstream>
 #include <numeric>
 #include <span>
 #include <string>
+#include <thread>
 #include <type_traits>
 #include <vector>
 
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/core/memory_budget.hpp"
+#include "spinmotor/linalg/blas_threads.hpp"
 #include "spinmotor/linalg/cholesky_solver.hpp"
 #include "spinmotor/linalg/geometric_ordering.hpp"
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
@@ -286,3 +294,105 @@ TEST_CASE("geometric_nested_dissection: a permutation of the free unknowns with 
 }
 
 }  // namespace test_cholesky
+
+namespace test_cholesky_threads {
+
+using namespace spinmotor;
+
+namespace {
+
+/// Threads of this process (/proc/self/status), or -1 where it cannot be read.
+int thread_count() {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("Threads:", 0) == 0) return std::stoi(line.substr(8));
+  return -1;
+}
+
+/// The 5-point Laplacian of a k×k grid plus the identity (lower triangle): SPD, nested-dissection
+/// fronts of ~k rows, large enough for OpenBLAS to run its dgemm calls threaded.
+Eigen::SparseMatrix<double> grid_matrix(int k) {
+  std::vector<Eigen::Triplet<double>> t;
+  for (int y = 0; y < k; ++y)
+    for (int x = 0; x < k; ++x) {
+      const int i = y * k + x;
+      t.emplace_back(i, i, 5.0);
+      if (x + 1 < k) t.emplace_back(i + 1, i, -1.0);
+      if (y + 1 < k) t.emplace_back(i + k, i, -1.0);
+    }
+  Eigen::SparseMatrix<double> A(k * k, k * k);
+  A.setFromTriplets(t.begin(), t.end());
+  A.makeCompressed();
+  return A;
+}
+
+/// CPU time (user + system) this process has used, in milliseconds.
+double process_cpu_ms() {
+  rusage r{};
+  getrusage(RUSAGE_SELF, &r);
+  return 1e3 * static_cast<double>(r.ru_utime.tv_sec + r.ru_stime.tv_sec) +
+         1e-3 * static_cast<double>(r.ru_utime.tv_usec + r.ru_stime.tv_usec);
+}
+
+double relative_residual(const Eigen::SparseMatrix<double>& A, const Eigen::MatrixXd& X,
+                         const Eigen::MatrixXd& B) {
+  const Eigen::MatrixXd AX = A.selfadjointView<Eigen::Lower>() * X;
+  return (AX - B).norm() / B.norm();
+}
+
+}  // namespace
+
+// blas_threads.hpp: the end of a ScopedBlasThreads joins OpenBLAS's workers (no thread left behind,
+// none spinning: an idle OpenBLAS worker yields in a loop for ~0.13 s before it sleeps, which shows
+// as CPU time while this thread sleeps), and factorizations on another thread meanwhile neither
+// deadlock nor go wrong: a worker stopped under a threaded call would leave it waiting forever
+// (ctest's timeout) or its result unfinished.
+TEST_CASE("BLAS threads: a threaded scope leaves no worker behind, concurrent factorizations stay right",
+          "[solvers]") {
+  const bool openblas = use_single_threaded_blas();
+  const Eigen::SparseMatrix<double> A = grid_matrix(120), C = grid_matrix(90);
+  const Eigen::MatrixXd B = Eigen::MatrixXd::Ones(A.rows(), 3), D = Eigen::MatrixXd::Ones(C.rows(), 2);
+  {
+    CholeskySolver warm({.ordering = Ordering::AMD, .supernodal = true});
+    warm.compute(C);
+    CHECK(relative_residual(C, warm.solve(D), D) < 1e-12);  // any pool of threads started here
+    const int before = thread_count();
+    {
+      const ScopedBlasThreads two(2);
+      CholeskySolver s({.ordering = Ordering::METIS, .supernodal = true});
+      s.compute(A);
+      CHECK(relative_residual(A, s.solve(B), B) < 1e-12);
+    }
+    INFO("OpenBLAS: " << openblas);
+    CHECK(thread_count() == before);
+    const double cpu0 = process_cpu_ms();
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    CHECK(process_cpu_ms() - cpu0 < 50.0);  // a spinning worker would take ~130 ms of it
+  }
+  std::atomic<bool> stop{false};
+  std::atomic<int> other_rounds{0};
+  double other_worst = 0;
+  std::thread other([&] {
+    CholeskySolver s({.ordering = Ordering::AMD, .supernodal = true});
+    while (!stop.load()) {
+      s.compute(C);
+      other_worst = std::max(other_worst, relative_residual(C, s.solve(D), D));
+      other_rounds.fetch_add(1);
+    }
+  });
+  double worst = 0;
+  for (int round = 0; round < 12; ++round) {
+    const ScopedBlasThreads two(2);
+    CholeskySolver s({.ordering = Ordering::METIS, .supernodal = true});
+    s.compute(A);
+    worst = std::max(worst, relative_residual(A, s.solve(B), B));
+  }
+  stop = true;
+  other.join();
+  CHECK(worst < 1e-12);
+  CHECK(other_rounds.load() > 0);
+  CHECK(other_worst < 1e-12);
+}
+
+}  // namespace test_cholesky_threads

@@ -14,10 +14,18 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <string>
 
 namespace spinmotor::test {
 
 inline constexpr int kSkipExitCode = 77;
+
+/// Ends the test process with kSkipExitCode, printing "skipped: <why>" (a case that cannot run here).
+[[noreturn]] inline void skip(const std::string& why) {
+  std::printf("skipped: %s\n", why.c_str());
+  std::fflush(stdout);
+  std::_Exit(kSkipExitCode);
+}
 
 /// True when the shared data folder `dir` exists.
 inline bool shared_available(const char* dir) { return std::filesystem::is_directory(dir); }

@@ -12,6 +12,17 @@
 // at run time so that any BLAS can be linked) unless the user has set OPENBLAS_NUM_THREADS, which is
 // then respected. Called by every CHOLMOD wrapper at bind; idempotent and thread-safe. Returns whether
 // OpenBLAS was found.
+//
+// Setting one thread does not stop OpenBLAS's worker threads, which its pthread build starts when it
+// is loaded: an idle worker spins on sched_yield for 2^28 cycles (~0.13 s here) after its start and
+// after each threaded call before it sleeps. On two cores that spinning took a core from our OpenMP
+// loops: `spinmotor spin` on SpinXForm's bumpy sphere used 284 ms of CPU in 154 ms (perf stat, 10
+// runs), 151 ms in 123 ms with OPENBLAS_NUM_THREADS=1. So going to one thread (here, and at the end of
+// every ScopedBlasThreads) also joins the workers (OpenBLAS's blas_thread_shutdown_; its next
+// threaded call starts them again), unless BLAS work of this library is in flight on another thread
+// (BlasCallScope), which could be using them. BLAS calls of other code in the process (numpy on the
+// same OpenBLAS, in another thread) are not tracked: one that runs threaded at that instant races
+// the shutdown.
 
 //
 // Large factors are the exception: a supernodal factorization with 104M nonzeros (the 1M-face spin
@@ -33,6 +44,15 @@ inline constexpr double kThreadedBlasFactorFlops = 1e10;
 /// For its lifetime, OpenBLAS runs `threads` threads (then one again). Does nothing without OpenBLAS
 /// or when the user set OPENBLAS_NUM_THREADS. The setting is process-wide: another thread's BLAS calls
 /// meanwhile use it too.
+/// Marks BLAS work of this library in flight (every CHOLMOD and SuperLU call of the solver wrappers).
+class BlasCallScope {
+ public:
+  BlasCallScope() noexcept;
+  ~BlasCallScope();
+  BlasCallScope(const BlasCallScope&) = delete;
+  BlasCallScope& operator=(const BlasCallScope&) = delete;
+};
+
 class ScopedBlasThreads {
  public:
   explicit ScopedBlasThreads(int threads);
