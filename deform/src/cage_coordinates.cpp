@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/huge_pages.hpp"
 #include "spinmotor/core/memory_budget.hpp"
 #include "spinmotor/core/parallel.hpp"
 #include "spinmotor/deform/deformer.hpp"
@@ -323,7 +324,9 @@ Eigen::MatrixXd harmonic_cage_coordinates(const Eigen::MatrixXd& C, const Eigen:
   // The 7-point Laplacian on the interior nodes (rows scaled by h²), boundary neighbours to the rhs.
   std::vector<Eigen::Triplet<double>> t;
   t.reserve(4 * m);
-  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(m, k);
+  Eigen::MatrixXd B(m, k);  // m × (cage vertices): ~95 MB at grid 64, advised before it is zeroed
+  advise_huge_pages(B.data(), static_cast<std::size_t>(B.size()) * sizeof(double));
+  B.setZero();
   for (int x = 0; x < N[0]; ++x)
     for (int y = 0; y < N[1]; ++y)
       for (int z = 0; z < N[2]; ++z) {

@@ -27,19 +27,14 @@ constexpr double kSingularPivot = 1e3 * std::numeric_limits<double>::epsilon();
 constexpr Eigen::Index kAutoMetisRows = 500000;
 constexpr const char* kWho = "CholeskySolver";
 
-// CHOLMOD allocates through SuiteSparse_config's function pointers (process-wide). Pointing them at
-// the huge-page variants of malloc/calloc/realloc (core/huge_pages.hpp) puts a factor's values on
-// 2 MiB pages where the kernel allows it: its zeroing in cholmod_super_numeric was most of the page
-// faults of a bind (docs/performance.md, "Page faults and huge pages"). The memory is std::malloc's,
-// so free_func stays std::free and blocks allocated before the switch (or by another CHOLMOD user in
-// the process) are freed correctly. Set once, before the first CHOLMOD call of this library.
 // CHOLMOD's supernodal factorization (SuiteSparse 5) opens OpenMP regions of a fixed 4 threads
 // (CHOLMOD_OMP_NUM_THREADS, compiled in) to zero and scatter into each large enough supernode. On two
 // cores that is a fork/join of 4 threads per supernode, thousands per factorization, each a round of
-// futex wake-ups and yields (perf: a fifth of the 80k-vertex harmonic bind; serial, the bind took
-// 250 ms against 367 ms, the 64-grid cage bind 3.39 s against 3.65-4.0 s). For its lifetime this
-// makes OpenMP regions opened by the calling thread run on that thread alone (max-active-levels is an
-// ICV of the thread's task, so other threads' loops keep their threads).
+// futex wake-ups and yields (perf: a fifth of the 80k-vertex harmonic bind; with the regions serial
+// the bind took 250 ms against 367 ms, the 64-grid cage bind 3.39 s against 3.65-4.0 s, its large
+// factor still on OpenBLAS's two threads). For its lifetime this makes the OpenMP regions opened by
+// the calling thread run on that thread alone (max-active-levels is an ICV of the thread's task, so
+// other threads' loops keep their teams).
 class ScopedSerialOpenMP {
  public:
   ScopedSerialOpenMP() : previous_(omp_get_max_active_levels()) { omp_set_max_active_levels(0); }
@@ -51,6 +46,13 @@ class ScopedSerialOpenMP {
   int previous_;
 };
 
+// CHOLMOD allocates through SuiteSparse_config's function pointers (process-wide). Pointing them at
+// the huge-page variants of malloc/calloc/realloc (core/huge_pages.hpp) puts a factor's values on
+// 2 MiB pages where the kernel allows it: its zeroing in cholmod_super_numeric was most of the page
+// faults of a bind (docs/performance.md, "Page faults, CHOLMOD's OpenMP regions and OpenBLAS's idle
+// workers"). The memory is std::malloc's, so free_func stays std::free and blocks allocated before
+// the switch (or by another CHOLMOD user in the process) are freed correctly. Set once, before the
+// first CHOLMOD call of this library.
 void use_huge_pages_in_cholmod() {
   static std::once_flag once;
   std::call_once(once, [] {
@@ -315,6 +317,7 @@ typename BasicCholeskySolver<Scalar>::Matrix BasicCholeskySolver<Scalar>::solve(
     throw Error(s.str());
   }
   Matrix X(B.rows(), B.cols());
+  advise_huge_pages(X.data(), static_cast<std::size_t>(X.size()) * sizeof(Scalar));  // not yet touched
   if (B.size() == 0) return X;
   // L of A = Pᵀ L Lᴴ P from a simplicial LDLᴴ factor L₁ D L₁ᴴ is L₁ D^½: L⁻¹B = D^−½ (L₁⁻¹ B) and
   // L⁻ᴴB = L₁⁻ᴴ (D^−½ B).

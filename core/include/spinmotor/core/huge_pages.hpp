@@ -2,13 +2,13 @@
 // Transparent huge pages for large buffers.
 //
 // The first write to each 4 KiB page of a fresh allocation is a page fault, and on the virtual machines
-// this project runs on a fault is expensive (perf: a third of the 80k-vertex harmonic bind's time was
-// the kernel's fault path, most of it CHOLMOD zeroing a new supernodal factor). Where the kernel's
+// this project runs on a fault is expensive (perf: about a tenth of the samples of the 80k-vertex
+// harmonic bind were in the fault path, most under CHOLMOD zeroing a new factor). Where the kernel's
 // transparent huge pages are in "madvise" mode (/sys/kernel/mm/transparent_hugepage/enabled), a range
 // marked MADV_HUGEPAGE before it is touched faults in 2 MiB pages instead: 512 times fewer faults.
 // With THP "always" the advice is redundant, with "never" (or off Linux) it does nothing; the memory
-// stays ordinary malloc memory either way, freed with std::free. docs/performance.md ("Page faults
-// and huge pages") has the measurements.
+// stays ordinary malloc memory either way, freed with std::free. docs/performance.md ("Page faults,
+// CHOLMOD's OpenMP regions and OpenBLAS's idle workers") has the measurements.
 #include <cstddef>
 
 namespace spinmotor {
