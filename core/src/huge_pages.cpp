@@ -2,7 +2,6 @@
 
 #include <cstdint>
 #include <cstdlib>
-#include <cstring>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -34,13 +33,10 @@ void* malloc_huge(std::size_t bytes) noexcept {
 }
 
 void* calloc_huge(std::size_t count, std::size_t size) noexcept {
-  if (size != 0 && count > SIZE_MAX / size) return nullptr;
-  const std::size_t bytes = count * size;
-  // Small buffers: calloc as it is. Large ones: advised before the zeros touch them (calloc would
-  // skip the zeroing of a fresh mapping, but zero a reused heap range before the advice could come).
-  if (bytes < kHugePageAdviceBytes) return std::calloc(count, size);
-  void* p = malloc_huge(bytes);
-  if (p) std::memset(p, 0, bytes);
+  // calloc leaves a fresh mapping untouched (its pages are zero) and zeroes only reused memory, whose
+  // pages are already resident: advised afterwards, the untouched pages still fault as huge pages.
+  void* p = std::calloc(count, size);
+  if (p) advise_huge_pages(p, count * size);
   return p;
 }
 

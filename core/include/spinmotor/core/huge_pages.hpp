@@ -24,7 +24,7 @@ void advise_huge_pages(void* p, std::size_t bytes) noexcept;
 
 /// std::malloc, then advise_huge_pages. Free the result with std::free.
 [[nodiscard]] void* malloc_huge(std::size_t bytes) noexcept;
-/// std::calloc's contract (count·size zeroed bytes, null on overflow or failure) on malloc_huge memory.
+/// std::calloc, then advise_huge_pages (calloc touches only reused, already resident memory).
 [[nodiscard]] void* calloc_huge(std::size_t count, std::size_t size) noexcept;
 /// std::realloc, then advise_huge_pages on the result (its tail is not yet touched).
 [[nodiscard]] void* realloc_huge(void* p, std::size_t bytes) noexcept;
