@@ -35,6 +35,7 @@ void* malloc_huge(std::size_t bytes) noexcept {
 void* calloc_huge(std::size_t count, std::size_t size) noexcept {
   // calloc leaves a fresh mapping untouched (its pages are zero) and zeroes only reused memory, whose
   // pages are already resident: advised afterwards, the untouched pages still fault as huge pages.
+  if (size != 0 && count > SIZE_MAX / size) return nullptr;  // (ASan's calloc aborts on it)
   void* p = std::calloc(count, size);
   if (p) advise_huge_pages(p, count * size);
   return p;
