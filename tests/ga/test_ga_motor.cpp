@@ -328,6 +328,16 @@ TEST_CASE("blend: weight 1 reproduces, PivotLog is frame invariant, Linear survi
     // precomputed logs give the same blend
     const std::array<Dll, 4> logs{log(m[0]), log(m[1]), log(m[2]), log(m[3])};
     CHECK(max_abs(blend_logs(logs, w) - blend(m, w, Blend::Log)) < 1e-15);
+    // five motors: four lanes read straight from the motors, then a partly filled chunk
+    const std::array<Mot, 5> m5{m[0], m[1], m[2], m[3], a};
+    const std::array<double, 5> w5{0.5 * w[0], 0.5 * w[1], 0.5 * w[2], 0.5 * w[3], 0.5};
+    const std::array<Dll, 5> logs5{logs[0], logs[1], logs[2], logs[3], log(a)};
+    CHECK(max_abs(blend_logs(logs5, w5) - blend(m5, w5, Blend::Log)) < 1e-15);
+    // a zero weight keeps its motor out of the arithmetic, even one that is not a motor
+    const std::array<Mot, 4> broken{m[0], Mot(0, 0, 0, 0, 1, 2, 3, 0), m[2], m[3]};
+    const std::array<double, 4> skip{w[0] + w[1], 0.0, w[2], w[3]};
+    const std::array<Dll, 4> logs_skip{logs[0], Dll(), logs[2], logs[3]};
+    CHECK(max_abs(blend_logs(logs_skip, skip) - blend(broken, skip, Blend::Log)) < 1e-15);
     // Log blend of two motors is the paper's exp((1-α) B1 + α B2)
     const std::array<Mot, 2> two{m[0], m[1]};
     const std::array<double, 2> w2{0.3, 0.7};

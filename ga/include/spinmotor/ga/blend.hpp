@@ -42,30 +42,40 @@ Dll weighted_log_sum(std::span<const Mot> motors, std::span<const double> weight
   A acc[6] = {A::Zero(), A::Zero(), A::Zero(), A::Zero(), A::Zero(), A::Zero()};
   const std::size_t n = motors.size();
   for (std::size_t i = 0; i < n; i += 4) {
-    // lane l holds motor i + l, or the identity past the end, at the skipped index and at a zero
-    // weight (so that a zero-weight motor is never read into the arithmetic)
-    const Mot* lane[4];
-    [[maybe_unused]] Mot relative[4];
-    double w[4];
-    for (std::size_t l = 0; l < 4; ++l) {
-      const std::size_t k = i + l;
-      const bool used = k < n && k != skip && weights[k] != 0.0;
-      w[l] = used ? weights[k] : 0.0;
-      if constexpr (Relative) {
-        if (used) relative[l] = motors[k] * x;
-        lane[l] = used ? &relative[l] : &identity;
-      } else {
-        lane[l] = used ? &motors[k] : &identity;
+    A in[8], out[6], wl;
+    if (!Relative && i + 4 <= n && skip == n && weights[i] != 0.0 && weights[i + 1] != 0.0 &&
+        weights[i + 2] != 0.0 && weights[i + 3] != 0.0) {
+      // four used motors (the usual case): the lanes are read straight from the motors
+      static_assert(sizeof(Mot) == 8 * sizeof(double));
+      const double* m = motors[i].data();
+      const A sign(std::copysign(1.0, m[0]), std::copysign(1.0, m[8]), std::copysign(1.0, m[16]),
+                   std::copysign(1.0, m[24]));  // the canonical sign (scalar part ≥ 0), no branches
+      for (std::size_t j = 0; j < 8; ++j) in[j] = sign * A(m[j], m[8 + j], m[16 + j], m[24 + j]);
+      wl = Eigen::Map<const A>(weights.data() + i);
+    } else {
+      // lane l holds motor i + l, or the identity past the end, at the skipped index and at a zero
+      // weight (so that a zero-weight motor is never read into the arithmetic)
+      const Mot* lane[4];
+      [[maybe_unused]] Mot relative[4];
+      double w[4];
+      for (std::size_t l = 0; l < 4; ++l) {
+        const std::size_t k = i + l;
+        const bool used = k < n && k != skip && weights[k] != 0.0;
+        w[l] = used ? weights[k] : 0.0;
+        if constexpr (Relative) {
+          if (used) relative[l] = motors[k] * x;
+          lane[l] = used ? &relative[l] : &identity;
+        } else {
+          lane[l] = used ? &motors[k] : &identity;
+        }
       }
+      const A sign(std::copysign(1.0, (*lane[0])[0]), std::copysign(1.0, (*lane[1])[0]),
+                   std::copysign(1.0, (*lane[2])[0]), std::copysign(1.0, (*lane[3])[0]));
+      for (std::size_t j = 0; j < 8; ++j)
+        in[j] = sign * A((*lane[0])[j], (*lane[1])[j], (*lane[2])[j], (*lane[3])[j]);
+      wl = A(w[0], w[1], w[2], w[3]);
     }
-    // transpose into lanes, with the canonical sign (scalar part ≥ 0) applied without branches
-    const A sign(std::copysign(1.0, (*lane[0])[0]), std::copysign(1.0, (*lane[1])[0]),
-                 std::copysign(1.0, (*lane[2])[0]), std::copysign(1.0, (*lane[3])[0]));
-    A in[8], out[6];
-    for (std::size_t j = 0; j < 8; ++j)
-      in[j] = sign * A((*lane[0])[j], (*lane[1])[j], (*lane[2])[j], (*lane[3])[j]);
     log_kernel(in, out);
-    const A wl(w[0], w[1], w[2], w[3]);
     for (int j = 0; j < 6; ++j) acc[j] += wl * out[j];
   }
   const Dll sum(acc[0].sum(), acc[1].sum(), acc[2].sum(), acc[3].sum(), acc[4].sum(), acc[5].sum());
