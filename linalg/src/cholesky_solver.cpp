@@ -1,7 +1,6 @@
 #include "spinmotor/linalg/cholesky_solver.hpp"
 
 #include <cholmod.h>
-#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +16,7 @@
 #include "spinmotor/core/huge_pages.hpp"
 #include "spinmotor/core/memory_budget.hpp"
 #include "spinmotor/linalg/blas_threads.hpp"
+#include "spinmotor/linalg/serial_openmp.hpp"
 
 namespace spinmotor {
 namespace {
@@ -26,25 +26,6 @@ constexpr double kSingularPivot = 1e3 * std::numeric_limits<double>::epsilon();
 // overall at 100k, METIS at 1M).
 constexpr Eigen::Index kAutoMetisRows = 500000;
 constexpr const char* kWho = "CholeskySolver";
-
-// CHOLMOD's supernodal factorization (SuiteSparse 5) opens OpenMP regions of a fixed 4 threads
-// (CHOLMOD_OMP_NUM_THREADS, compiled in) to zero and scatter into each large enough supernode. On two
-// cores that is a fork/join of 4 threads per supernode, thousands per factorization, each a round of
-// futex wake-ups and yields (perf: a fifth of the 80k-vertex harmonic bind; with the regions serial
-// the bind took 250 ms against 367 ms, the 64-grid cage bind 3.39 s against 3.65-4.0 s, its large
-// factor still on OpenBLAS's two threads). For its lifetime this makes the OpenMP regions opened by
-// the calling thread run on that thread alone (max-active-levels is an ICV of the thread's task, so
-// other threads' loops keep their teams).
-class ScopedSerialOpenMP {
- public:
-  ScopedSerialOpenMP() : previous_(omp_get_max_active_levels()) { omp_set_max_active_levels(0); }
-  ~ScopedSerialOpenMP() { omp_set_max_active_levels(previous_); }
-  ScopedSerialOpenMP(const ScopedSerialOpenMP&) = delete;
-  ScopedSerialOpenMP& operator=(const ScopedSerialOpenMP&) = delete;
-
- private:
-  int previous_;
-};
 
 // CHOLMOD allocates through SuiteSparse_config's function pointers (process-wide). Pointing them at
 // the huge-page variants of malloc/calloc/realloc (core/huge_pages.hpp) puts a factor's values on
@@ -287,7 +268,7 @@ void BasicCholeskySolver<Scalar>::factorize(const SparseMatrix& A) {
     const ScopedBlasThreads blas(large ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))
                                        : 1);
     const BlasCallScope call;
-    const ScopedSerialOpenMP serial;
+    const SerialOpenMPScope serial;  // CHOLMOD's OpenMP regions: plain calls (serial_openmp.hpp)
     cholmod_factorize(&s, m.L, &m.common);
   }
   m.check_status("factorize");

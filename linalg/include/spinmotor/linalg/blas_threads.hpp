@@ -41,9 +41,6 @@ bool use_single_threaded_blas();
 /// operations counted once) from which a numeric factorization runs OpenBLAS on every core.
 inline constexpr double kThreadedBlasFactorFlops = 1e10;
 
-/// For its lifetime, OpenBLAS runs `threads` threads (then one again). Does nothing without OpenBLAS
-/// or when the user set OPENBLAS_NUM_THREADS. The setting is process-wide: another thread's BLAS calls
-/// meanwhile use it too.
 /// Marks BLAS work of this library in flight (every CHOLMOD and SuperLU call of the solver wrappers).
 class BlasCallScope {
  public:
@@ -53,6 +50,9 @@ class BlasCallScope {
   BlasCallScope& operator=(const BlasCallScope&) = delete;
 };
 
+/// For its lifetime, OpenBLAS runs `threads` threads (then one again). Does nothing without OpenBLAS
+/// or when the user set OPENBLAS_NUM_THREADS. The setting is process-wide: another thread's BLAS calls
+/// meanwhile use it too.
 class ScopedBlasThreads {
  public:
   explicit ScopedBlasThreads(int threads);
