@@ -3,6 +3,7 @@
 #include <cholmod.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -22,6 +23,22 @@ namespace spinmotor {
 namespace {
 // Relative pivot size below which a factor is declared numerically singular (cond ≳ 4.5e12).
 constexpr double kSingularPivot = 1e3 * std::numeric_limits<double>::epsilon();
+// Whether A stores both triangles: as many entries above the diagonal as below (the input convention
+// makes such a matrix symmetric / Hermitian, so either triangle can be read). One pass over the row
+// indices.
+template <class SparseMatrix>
+bool stored_in_full(const SparseMatrix& A) {
+  std::int64_t above = 0, below = 0;
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  for (Eigen::Index j = 0; j < A.cols(); ++j)
+    for (int p = outer[j]; p < outer[j + 1]; ++p) {
+      above += inner[p] < j;
+      below += inner[p] > j;
+    }
+  return below > 0 && above == below;
+}
+
 // Ordering::Auto switches from AMD to METIS at this many rows (bench_laplacian: AMD is faster
 // overall at 100k, METIS at 1M).
 constexpr Eigen::Index kAutoMetisRows = 500000;
@@ -58,6 +75,11 @@ struct BasicCholeskySolver<Scalar>::Impl {
   std::size_t pattern = 0;
   bool factorized = false;
   Ordering used = Ordering::Natural;
+  // The triangle CHOLMOD reads (stype): −1, the lower one, unless A is stored in full and the ordering
+  // permutes it, then +1, the upper one. cholmod_factorize forms the permuted lower triangle that its
+  // supernodal and simplicial kernels read with one permuted transpose from the upper triangle and with
+  // two from the lower one; with the natural ordering it reads the lower triangle in place.
+  int stype = -1;
 
   explicit Impl(const Options& o) : options(o) {
     use_single_threaded_blas();
@@ -75,8 +97,9 @@ struct BasicCholeskySolver<Scalar>::Impl {
     cholmod_finish(&common);
   }
 
-  // A view of A's lower triangle: CHOLMOD reads A in place (stype −1 ignores the upper triangle).
-  static cholmod_sparse view(const SparseMatrix& A) {
+  // A view of A: CHOLMOD reads it in place, the lower triangle for stype −1 (the upper one ignored),
+  // the upper triangle for +1.
+  static cholmod_sparse view(const SparseMatrix& A, int stype) {
     cholmod_sparse s{};
     s.nrow = static_cast<size_t>(A.rows());
     s.ncol = static_cast<size_t>(A.cols());
@@ -84,7 +107,7 @@ struct BasicCholeskySolver<Scalar>::Impl {
     s.p = const_cast<int*>(A.outerIndexPtr());
     s.i = const_cast<int*>(A.innerIndexPtr());
     s.x = const_cast<Scalar*>(A.valuePtr());
-    s.stype = -1;
+    s.stype = stype;
     s.itype = CHOLMOD_INT;
     s.xtype = kXtype;
     s.dtype = CHOLMOD_DOUBLE;
@@ -213,7 +236,8 @@ void BasicCholeskySolver<Scalar>::analyze(const SparseMatrix& A) {
         return CHOLMOD_AMD;
     }
   }();
-  cholmod_sparse s = Impl::view(A);
+  m.stype = m.used != Ordering::Natural && stored_in_full(A) ? 1 : -1;
+  cholmod_sparse s = Impl::view(A, m.stype);
   m.L = cholmod_analyze(&s, &m.common);
   if (!m.L) m.check_status("analyze"), throw numerical_error(std::string(kWho) + ": CHOLMOD analyze failed");
   if (m.options.try_natural && m.used != Ordering::Natural) {
@@ -226,6 +250,7 @@ void BasicCholeskySolver<Scalar>::analyze(const SparseMatrix& A) {
       cholmod_free_factor(&m.L, &m.common);
       m.L = natural;
       m.used = Ordering::Natural;
+      m.stype = -1;  // read in place (the pattern analysed is the same: A is symmetric)
     } else {
       cholmod_free_factor(&natural, &m.common);
       m.common.fl = fl, m.common.lnz = lnz;  // factor_flops() and factor_nonzeros() of the kept one
@@ -261,7 +286,7 @@ void BasicCholeskySolver<Scalar>::factorize(const SparseMatrix& A) {
     m.factorized = true;
     return;
   }
-  cholmod_sparse s = Impl::view(A);
+  cholmod_sparse s = Impl::view(A, m.stype);
   {
     // All cores for the BLAS of a large supernodal factor (blas_threads.hpp); fl: from analyze().
     const bool large = m.options.supernodal && m.common.fl >= kThreadedBlasFactorFlops;

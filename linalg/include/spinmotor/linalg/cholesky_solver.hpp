@@ -14,9 +14,12 @@
 // (CHOLMOD's sys argument), so that L⁻¹P and PᵀL⁻ᴴ can be applied separately (Spectra's Cholesky mode,
 // dirac_spectrum.cpp). L is the Cholesky factor of P A Pᵀ whether the numeric factor is LLᴴ or LDLᴴ.
 //
-// Input convention: A is n×n, symmetric / Hermitian, stored in full or as its lower triangle (only the
-// lower triangle is read; the upper one is ignored, not checked). Column-major, compressed Eigen
-// storage with int indices, viewed by CHOLMOD without copying.
+// Input convention: A is n×n, symmetric / Hermitian, stored in full or as its lower triangle: one
+// triangle is read, the other is not checked. A matrix with as many entries above the diagonal as
+// below counts as stored in full, and then its upper triangle is read when the ordering permutes it
+// (CHOLMOD forms the permuted factor input from it with one transpose instead of two); otherwise the
+// lower triangle. Column-major, compressed Eigen storage with int indices, viewed by CHOLMOD without
+// copying.
 //
 // Ordering (ordering.hpp; the fill-reducing permutation, computed once per analyze()); the constructor
 // throws Error (BadInput) for the orderings of other solvers (colamd, nested-dissection, ...):
