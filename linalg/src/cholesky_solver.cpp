@@ -3,8 +3,8 @@
 #include <cholmod.h>
 
 #include <algorithm>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <mutex>
 #include <sstream>

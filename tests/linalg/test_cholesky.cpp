@@ -147,7 +147,8 @@ TEST_CASE("Cholesky: complex Hermitian solves agree with a dense LLᴴ, for ever
         CHECK((X - Xref).cwiseAbs().maxCoeff() < 1e-11 * Xref.cwiseAbs().maxCoeff());
         // One column at a time equals the block.
         for (int k = 0; k < 3; ++k)
-          CHECK((c.solve(B.col(k)) - X.col(k)).cwiseAbs().maxCoeff() < 1e-13 * X.col(k).cwiseAbs().maxCoeff());
+          CHECK((c.solve(B.col(k)) - X.col(k)).cwiseAbs().maxCoeff() <
+                1e-13 * X.col(k).cwiseAbs().maxCoeff());
       }
 }
 

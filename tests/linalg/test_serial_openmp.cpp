@@ -20,9 +20,9 @@ using namespace spinmotor;
 namespace {
 
 struct Region {
-  int threads = 0;        // omp_get_num_threads() seen inside
-  bool caller = true;     // the region's body ran on the calling thread alone
-  long long sum = 0;      // Σ i over [1, 1000] by a dynamic-schedule reduction
+  int threads = 0;     // omp_get_num_threads() seen inside
+  bool caller = true;  // the region's body ran on the calling thread alone
+  long long sum = 0;   // Σ i over [1, 1000] by a dynamic-schedule reduction
 };
 
 Region run_region(int requested) {
@@ -95,8 +95,7 @@ TEST_CASE("serial OpenMP: inside the scope a region is a plain call, outside it 
   CHECK(serial_openmp_direct_regions() == before + 2);
 }
 
-TEST_CASE("serial OpenMP: a supernodal CHOLMOD factorization runs its regions as plain calls",
-          "[solvers]") {
+TEST_CASE("serial OpenMP: a supernodal CHOLMOD factorization runs its regions as plain calls", "[solvers]") {
   const Eigen::SparseMatrix<double> A = grid_matrix(100);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 2.0);
   const std::uint64_t before = serial_openmp_direct_regions();

@@ -7,11 +7,11 @@
 // sphere, eigen and Poisson factors together). On two cores their fork/joins of four threads were a
 // fifth of the 80k-vertex harmonic bind, so the factorizations run them serially (max-active-levels
 // 0, a per-task setting: other threads' loops keep their teams): the bind took 250 ms against 367 ms,
-// the 64-grid cage bind 3.39 s against 3.65-4.0 s. A serialized region is not free either: libgomp still builds a team of one and ends it at a
-// barrier whose last arrival always issues a futex wake, a system call of ~1.1 µs on these
-// paravirtualized machines (120,076 futex calls for 120,000 regions, strace; 1.14 µs a region with
-// `if (0)` or with max-active-levels 0 alike). That was half of the complex factorization's time on
-// that sphere (35 ms against 17 ms, docs/performance.md, "Serialized OpenMP regions").
+// the 64-grid cage bind 3.39 s against 3.65-4.0 s. A serialized region is not free either: libgomp still
+// builds a team of one and ends it at a barrier whose last arrival always issues a futex wake, a system call
+// of ~1.1 µs on these paravirtualized machines (120,076 futex calls for 120,000 regions, strace; 1.14 µs a
+// region with `if (0)` or with max-active-levels 0 alike). That was half of the complex factorization's time
+// on that sphere (35 ms against 17 ms, docs/performance.md, "Serialized OpenMP regions").
 //
 // Inside a SerialOpenMPScope (per thread; nestable), this library's GOMP_parallel, the entry point
 // GCC emits for `#pragma omp parallel`, calls the region's body directly when the region would run
