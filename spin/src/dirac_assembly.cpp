@@ -167,9 +167,15 @@ DiracAssembly::DiracAssembly(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
           std::swap(nb_e0_is_row_[c - 1], nb_e0_is_row_[c]);
         }
   }
+}
 
-  // The lower-triangular pattern.
+const Eigen::SparseMatrix<double>& DiracAssembly::pattern() const {
   const Eigen::Index N = dof_offset_[n_];
+  if (pattern_.rows() == N && (N == 0 || pattern_.nonZeros() > 0)) return pattern_;
+  std::vector<int> dof(static_cast<std::size_t>(n_));
+  for (Eigen::Index j = 0; j < n_; ++j) dof[j] = static_cast<int>(dof_offset_[j + 1] - dof_offset_[j]);
+  // Lower triangle: column c of vertex j's block holds rows c.. of its own block, then every row of
+  // each neighbour k > j (new order).
   pattern_.resize(N, N);
   std::vector<int> outer(N + 1, 0);
   for (Eigen::Index j = 0; j < n_; ++j) {
@@ -192,12 +198,13 @@ DiracAssembly::DiracAssembly(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
       }
     }
   std::fill(pattern_.valuePtr(), pattern_.valuePtr() + outer[N], 0.0);
+  return pattern_;
 }
 
 void DiracAssembly::fill(const Eigen::VectorXd& scale, const Eigen::VectorXd& diag, const RowQuats& edge_q,
                          Eigen::SparseMatrix<double>& K) const {
   const Eigen::Index N = num_unknowns();
-  if (K.rows() != N || K.cols() != N || K.nonZeros() != pattern_.nonZeros() || !K.isCompressed())
+  if (K.rows() != N || K.cols() != N || K.nonZeros() != pattern().nonZeros() || !K.isCompressed())
     throw Error("DiracAssembly: the output matrix must be a copy of pattern()");
   if (scale.size() != 0 && scale.size() != n_) {
     std::ostringstream s;

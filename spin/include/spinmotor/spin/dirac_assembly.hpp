@@ -69,8 +69,9 @@ class DiracAssembly {
   /// order()[k] is the original index of the k-th vertex in the unknowns' order.
   const Eigen::VectorXi& order() const { return order_; }
 
-  /// The symmetric pattern (lower triangle including the diagonal, compressed, values zero).
-  const Eigen::SparseMatrix<double>& pattern() const { return pattern_; }
+  /// The symmetric pattern (lower triangle including the diagonal, compressed, values zero). Built on
+  /// first use (the complex form never needs it: at 1M faces it holds 29M entries).
+  const Eigen::SparseMatrix<double>& pattern() const;
 
   /// Inputs: rho (m), scale (n, s_i > 0; empty means all ones). Output: K's values written into
   /// `K`, which must have pattern() (copy it once, then refill for each ρ).
@@ -125,7 +126,7 @@ class DiracAssembly {
   // Per new vertex j: its neighbours k > j in new order, with the edge and whether the edge's
   // stored orientation (E0 → E1) is (row k, column j).
   Eigen::VectorXi nb_offset_, nb_vertex_, nb_edge_, nb_e0_is_row_;
-  Eigen::SparseMatrix<double> pattern_;
+  mutable Eigen::SparseMatrix<double> pattern_;
   mutable Eigen::SparseMatrix<std::complex<double>> complex_pattern_;
 };
 
