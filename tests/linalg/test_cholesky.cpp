@@ -2,7 +2,8 @@
 // matrices: agreement with dense factorizations, the partial solves (P, L, Lᴴ, Pᵀ) that Spectra's
 // Cholesky mode uses, and the one singularity rule (smallest pivot ≤ 1000·ε·max diagonal) on matrices
 // whose pivots are known in closed form; the BLAS thread policy (blas_threads.hpp) under concurrent
-// factorizations.
+// factorizations, and CHOLMOD's OpenMP regions as plain calls (serial_openmp.hpp).
+#include <omp.h>
 #include <sys/resource.h>
 
 #include <Eigen/Dense>
@@ -25,6 +26,7 @@
 #include "spinmotor/linalg/blas_threads.hpp"
 #include "spinmotor/linalg/cholesky_solver.hpp"
 #include "spinmotor/linalg/geometric_ordering.hpp"
+#include "spinmotor/linalg/serial_openmp.hpp"
 #include "spinmotor/mesh/cotangent_laplacian.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/mass_matrix.hpp"
@@ -350,6 +352,32 @@ double relative_residual(const Eigen::SparseMatrix<double>& A, const Eigen::Matr
   return (AX - B).norm() / B.norm();
 }
 
+/// A parallel region asking for `requested` threads: the team size it got, whether only the calling
+/// thread ran its body, and a dynamic-schedule reduction (Σ i over [1, 1000]).
+struct Region {
+  int threads = 0;     // omp_get_num_threads() seen inside
+  bool caller = true;  // the region's body ran on the calling thread alone
+  long long sum = 0;   // Σ i over [1, 1000] by a dynamic-schedule reduction
+};
+
+Region run_region(int requested) {
+  Region r;
+  const std::thread::id me = std::this_thread::get_id();
+  std::atomic<bool> caller{true};
+  long long sum = 0;
+#pragma omp parallel num_threads(requested) reduction(+ : sum)
+  {
+    if (std::this_thread::get_id() != me) caller = false;  // every thread of a team runs the body
+#pragma omp single
+    r.threads = omp_get_num_threads();
+#pragma omp for schedule(dynamic, 7)
+    for (int i = 1; i <= 1000; ++i) sum += i;
+  }
+  r.sum = sum;
+  r.caller = caller.load();
+  return r;
+}
+
 }  // namespace
 
 // blas_threads.hpp: the end of a ScopedBlasThreads joins OpenBLAS's workers (no thread left behind,
@@ -402,6 +430,57 @@ TEST_CASE("BLAS threads: a threaded scope leaves no worker behind, concurrent fa
   CHECK(worst < 1e-12);
   CHECK(other_rounds.load() > 0);
   CHECK(other_worst < 1e-12);
+}
+
+// serial_openmp.hpp: inside a SerialOpenMPScope a region that would run on one thread is a plain
+// call on the calling thread (counted); outside it, and on other threads meanwhile, regions keep their
+// teams; a CHOLMOD factorization runs its regions that way and stays right.
+TEST_CASE("serial OpenMP: inside the scope a region is a plain call, outside it keeps its team",
+          "[solvers]") {
+  const int team = std::min(2, omp_get_thread_limit());
+  const Region outside = run_region(2);
+  CHECK(outside.threads == team);
+  CHECK(outside.sum == 500500);
+  CHECK(outside.caller == (team == 1));
+
+  const std::uint64_t before = serial_openmp_direct_regions();
+  {
+    const SerialOpenMPScope scope;
+    const Region inside = run_region(2);
+    CHECK(inside.threads == 1);
+    CHECK(inside.caller);
+    CHECK(inside.sum == 500500);
+    CHECK(serial_openmp_direct_regions() == before + 1);
+
+    // another thread meanwhile: its regions keep their teams (the scope is this thread's)
+    Region other;
+    std::thread t([&] { other = run_region(2); });
+    t.join();
+    CHECK(other.threads == team);
+    CHECK(other.sum == 500500);
+    CHECK(serial_openmp_direct_regions() == before + 1);
+    {
+      const SerialOpenMPScope nested;
+      CHECK(run_region(2).sum == 500500);
+    }
+    CHECK(serial_openmp_direct_regions() == before + 2);
+  }
+  // after the scope, regions have their teams again and are no longer counted
+  CHECK(run_region(2).threads == team);
+  CHECK(serial_openmp_direct_regions() == before + 2);
+}
+
+TEST_CASE("serial OpenMP: a supernodal CHOLMOD factorization runs its regions as plain calls", "[solvers]") {
+  const Eigen::SparseMatrix<double> A = grid_matrix(100);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 2.0);
+  const std::uint64_t before = serial_openmp_direct_regions();
+  CholeskySolver s({.ordering = Ordering::METIS, .supernodal = true});
+  s.compute(A);
+  const std::uint64_t regions = serial_openmp_direct_regions() - before;
+  INFO("CHOLMOD regions run as plain calls: " << regions);
+  CHECK(regions > 100);  // SuiteSparse 5 opens several per supernode
+  const Eigen::VectorXd x = s.solve(b);
+  CHECK((A.selfadjointView<Eigen::Lower>() * x - b).norm() / b.norm() < 1e-14);
 }
 
 }  // namespace test_cholesky_threads
