@@ -29,6 +29,16 @@ std::uint64_t serial_openmp_direct_regions() noexcept { return g_direct.load(std
 
 }  // namespace spinmotor
 
+extern "C" void GOMP_parallel(void (*fn)(void*), void* data, unsigned num_threads, unsigned flags);
+
+namespace spinmotor {
+
+bool serial_openmp_interposed() noexcept {
+  return dlsym(RTLD_DEFAULT, "GOMP_parallel") == reinterpret_cast<void*>(&GOMP_parallel);
+}
+
+}  // namespace spinmotor
+
 // libgomp's entry point for `#pragma omp parallel` (GCC's ABI since GCC 4.9: body, its data, the
 // requested thread count (0: the default; 1 for a false `if` clause), proc_bind flags).
 extern "C" void GOMP_parallel(void (*fn)(void*), void* data, unsigned num_threads, unsigned flags) {

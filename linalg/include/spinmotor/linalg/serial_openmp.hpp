@@ -23,10 +23,10 @@
 // ask.
 //
 // The definition takes effect where the dynamic linker binds CHOLMOD's GOMP_parallel to it: in every
-// program linked with this library (the linker exports it for libcholmod's reference) and in the
-// shared-library build. The Python module, loaded by Python with local symbols, keeps libgomp's
-// (correct, without the saving). A compiler whose OpenMP runtime is not libgomp does not use the
-// symbol; the scope then only sets max-active-levels.
+// program linked statically with this library (the linker exports it for libcholmod's reference). In
+// the shared-library build libgomp is loaded ahead of libspinmotor_linalg and keeps the symbol, as it
+// may in the Python module: correct, without the saving (serial_openmp_interposed() tells). A compiler whose
+// OpenMP runtime is not libgomp does not use the symbol; the scope then only sets max-active-levels.
 #include <cstdint>
 
 namespace spinmotor {
@@ -45,5 +45,11 @@ class SerialOpenMPScope {
 /// Parallel regions this process has run as plain calls (inside a SerialOpenMPScope); for tests and
 /// benchmarks. Stays 0 where the interposition does not take effect.
 [[nodiscard]] std::uint64_t serial_openmp_direct_regions() noexcept;
+
+/// Whether the process's global symbol lookup finds this library's GOMP_parallel first (what libcholmod
+/// binds to). True in programs linked statically with the library; in the shared-library build
+/// (BUILD_SHARED_LIBS, CI's sanitizer preset) libgomp is usually ahead of libspinmotor_linalg in the
+/// load order, and libgomp's serialized regions are used instead.
+[[nodiscard]] bool serial_openmp_interposed() noexcept;
 
 }  // namespace spinmotor
