@@ -14,10 +14,12 @@ const char* to_string(HarmonicWeights w) { return w == HarmonicWeights::MeanValu
 
 namespace {
 
-/// Solves L X = 0 with X(constrained(r), :) = values(r, :): one factorization for all columns.
+/// Solves L X = 0 with X(constrained(r), :) = values(r, :): one factorization for all columns. With
+/// `unity_last`, every row of `values` sums to 1 and the last column is not solved for: it is
+/// 1 − Σ of the others (header: L·1 = 0 and the solution is unique, so the columns sum to 1).
 Eigen::MatrixXd solve_dirichlet(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                 const Eigen::VectorXi& constrained, const Eigen::MatrixXd& values,
-                                HarmonicWeights weights, const char* who) {
+                                HarmonicWeights weights, const char* who, bool unity_last = false) {
   // Row i of either Laplacian is the equation of vertex i (eq. 14 times Σ_j w_ij).
   const bool mv = weights == HarmonicWeights::MeanValue;
   const Eigen::SparseMatrix<double> L = mv ? mean_value_laplacian(V, F) : cotangent_laplacian(V, F);
@@ -33,7 +35,14 @@ Eigen::MatrixXd solve_dirichlet(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
     // DirichletSolver names the component in the matrix graph, which is the mesh's vertex graph.
     throw Error(std::string(who) + " (" + to_string(weights) + " weights): " + e.what(), e.kind());
   }
-  return solver.solve(values);
+  if (!unity_last) return solver.solve(values);
+  const Eigen::Index k = values.cols();
+  Eigen::MatrixXd X(V.rows(), k);
+  X.leftCols(k - 1) = solver.solve(values.leftCols(k - 1));
+  X.col(k - 1).setOnes();
+  X.col(k - 1) -= X.leftCols(k - 1).rowwise().sum();
+  // Constrained values stay exact (the header's promise): 1 − Σ of exact 0s and one 1 is exact.
+  return X;
 }
 
 }  // namespace
@@ -53,7 +62,9 @@ Eigen::MatrixXd harmonic_coordinates(const Eigen::MatrixXd& V, const Eigen::Matr
       constrained[r] = handles[j].vertices[k];
       values(r, static_cast<Eigen::Index>(j)) = 1.0;  // §IV: 1 on H_j, 0 on every other handle
     }
-  return solve_dirichlet(V, F, constrained, values, weights, who);
+  // Each constrained row holds one 1: the fields sum to 1 and the last one costs no solve (a third
+  // less solve time for 3 handles, half for 2; bench_deform BM_bind, docs/performance.md).
+  return solve_dirichlet(V, F, constrained, values, weights, who, /*unity_last=*/true);
 }
 
 Eigen::VectorXd harmonic_field(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Handle& zero,

@@ -38,8 +38,9 @@ const char* to_string(HarmonicWeights w);
 
 /// Inputs: V (n×3), F (m×3), handles (k ≥ 1 disjoint vertex sets, see check_handles), weights.
 /// Output: n×k matrix Λ, column j the harmonic field that is 1 on handle j and 0 on every other
-/// handle (§IV). One factorization of the free block, k right-hand sides. Rows sum to 1 and, with
-/// mean-value weights, 0 ≤ Λ ≤ 1 (to rounding).
+/// handle (§IV). One factorization of the free block and k − 1 right-hand sides: the last column is
+/// 1 minus the others (the partition of unity above). Rows sum to 1 and, with mean-value weights,
+/// 0 ≤ Λ ≤ 1 (to rounding).
 /// Throws Error for a bad handle (check_handles), a degenerate face (naming it), or a connected
 /// component without any handle vertex (naming the component).
 Eigen::MatrixXd harmonic_coordinates(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
