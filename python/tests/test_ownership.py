@@ -25,7 +25,7 @@ def test_pose_results_survive_later_calls_and_the_deformer():
     m1 = [sm.Motor(), sm.Motor.from_rotation((1, 0, 0), 40, about=(0, 0, 2.5))]
     m2 = [sm.Motor(), sm.Motor.from_rotation((0, 1, 0), -60, about=(0, 0, 2.5))]
     a = d.pose(m1)
-    a_copy = a.copy()
+    a_copy = a.copy(order="K")  # a's (column-major) layout: equal arrays then also sum in the same order
     b = d.pose(m2)
     assert owns(a) and owns(b) and not np.shares_memory(a, b)
     assert a.flags.f_contiguous and a.shape == V.shape  # pose hands the C++ result over (column-major)
