@@ -11,6 +11,7 @@ namespace spinmotor {
 
 namespace {
 constexpr std::uintptr_t kHugePage = std::uintptr_t{2} << 20;
+constexpr std::uintptr_t kPage = 4096;  // the smallest page: a populated range is rounded inwards to it
 }  // namespace
 
 void advise_huge_pages(void* p, std::size_t bytes) noexcept {
@@ -26,9 +27,29 @@ void advise_huge_pages(void* p, std::size_t bytes) noexcept {
 #endif
 }
 
+void populate_pages(void* p, std::size_t bytes) noexcept {
+#if defined(__linux__) && defined(MADV_POPULATE_WRITE)
+  if (p == nullptr || bytes < kPopulateBytes) return;
+  const auto begin = reinterpret_cast<std::uintptr_t>(p);
+  const std::uintptr_t first = (begin + kPage - 1) & ~(kPage - 1);
+  const std::uintptr_t last = (begin + bytes) & ~(kPage - 1);
+  // EINVAL before Linux 5.14 (no such advice), ENOMEM/EFAULT when memory runs out: the pages then
+  // fault one by one as before, and an out-of-memory is reported where the memory is written.
+  if (last > first) (void)madvise(reinterpret_cast<void*>(first), last - first, MADV_POPULATE_WRITE);
+#else
+  (void)p;
+  (void)bytes;
+#endif
+}
+
+void prepare_fresh(void* p, std::size_t bytes) noexcept {
+  advise_huge_pages(p, bytes);
+  populate_pages(p, bytes);
+}
+
 void* malloc_huge(std::size_t bytes) noexcept {
   void* p = std::malloc(bytes);
-  advise_huge_pages(p, bytes);
+  prepare_fresh(p, bytes);
   return p;
 }
 
@@ -37,7 +58,7 @@ void* calloc_huge(std::size_t count, std::size_t size) noexcept {
   // pages are already resident: advised afterwards, the untouched pages still fault as huge pages.
   if (size != 0 && count > SIZE_MAX / size) return nullptr;  // (ASan's calloc aborts on it)
   void* p = std::calloc(count, size);
-  if (p) advise_huge_pages(p, count * size);
+  if (p) prepare_fresh(p, count * size);  // populated pages of a fresh mapping read as zero
   return p;
 }
 

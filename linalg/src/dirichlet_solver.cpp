@@ -7,6 +7,7 @@
 
 #include "solver_detail.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/huge_pages.hpp"
 
 namespace spinmotor {
 
@@ -140,6 +141,9 @@ void DirichletSolver::bind_impl(const Eigen::SparseMatrix<double>& A, const Eige
   for (int j = 0; j < nc; ++j) fc_outer[j + 1] += fc_outer[j];
   A_FF.resizeNonZeros(ff_outer[nf]);
   m.A_FC.resizeNonZeros(fc_outer[nc]);
+  // Fresh memory, written whole below: faulted in by one system call each (core/huge_pages.hpp).
+  prepare_fresh(A_FF.innerIndexPtr(), sizeof(int) * static_cast<std::size_t>(ff_outer[nf]));
+  prepare_fresh(A_FF.valuePtr(), sizeof(double) * static_cast<std::size_t>(ff_outer[nf]));
   std::copy(ff_outer.begin(), ff_outer.end(), A_FF.outerIndexPtr());
   std::copy(fc_outer.begin(), fc_outer.end(), m.A_FC.outerIndexPtr());
   for (int j = 0; j < n; ++j) {  // ff_outer / fc_outer now serve as per-column write cursors

@@ -10,6 +10,7 @@ Eigen::SparseMatrix<double> cotangent_laplacian(const Eigen::MatrixXd& V, const 
   const Eigen::Index m = F.rows();
   // h(f,c) = ½ cot of the angle at corner c: the weight of the edge opposite c (Meyer et al. 2003, eq. 8).
   Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> h(m, 3);
+  prepare_fresh(h.data(), sizeof(double) * static_cast<std::size_t>(h.size()));  // written whole
   detail::for_each_face(V, F, true, who, [&](Eigen::Index f, const detail::FaceFrame& fr) {
     for (int c = 0; c < 3; ++c) h(f, c) = 0.5 * fr.dot[c] / fr.dbl_area;
   });

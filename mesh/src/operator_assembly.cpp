@@ -1,5 +1,6 @@
 #include "operator_assembly.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -56,12 +57,13 @@ void throw_degenerate(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eigen:
 VertexCorners vertex_corners(const Eigen::MatrixXi& F, Eigen::Index n) {
   VertexCorners vc;
   const Eigen::Index m = F.rows();
-  vc.offset.assign(static_cast<size_t>(n) + 1, 0);
+  vc.offset = filled_vector(static_cast<size_t>(n) + 1, 0);
   for (Eigen::Index f = 0; f < m; ++f)
     for (int c = 0; c < 3; ++c) ++vc.offset[F(f, c) + 1];
   for (Eigen::Index v = 0; v < n; ++v) vc.offset[v + 1] += vc.offset[v];
-  vc.corner.resize(static_cast<size_t>(3 * m));
-  std::vector<int> cursor(vc.offset.begin(), vc.offset.end() - 1);
+  vc.corner = filled_vector(static_cast<size_t>(3 * m), 0);
+  std::vector<int> cursor = filled_vector(static_cast<size_t>(n), 0);
+  std::copy(vc.offset.begin(), vc.offset.end() - 1, cursor.begin());
   for (Eigen::Index f = 0; f < m; ++f)
     for (int c = 0; c < 3; ++c) vc.corner[cursor[F(f, c)]++] = static_cast<int>(3 * f + c);
   return vc;

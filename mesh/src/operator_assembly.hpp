@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/huge_pages.hpp"
 #include "spinmotor/core/parallel.hpp"
 #include "spinmotor/mesh/face_geometry.hpp"  // kDegenerateFace
 
@@ -71,6 +72,17 @@ void for_each_face(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, bool need
   if (bad < m) throw_degenerate(V, F, bad, who);
 }
 
+/// std::vector<T>(n, value), its pages faulted in by one system call first (core/huge_pages.hpp): the
+/// n-sized scratch arrays of the assembly are fresh memory on every call.
+template <class T>
+std::vector<T> filled_vector(std::size_t n, T value) {
+  std::vector<T> v;
+  v.reserve(n);
+  populate_pages(v.data(), n * sizeof(T));
+  v.assign(n, value);
+  return v;
+}
+
 /// Corners incident to each vertex (CSR): corner[offset[v] .. offset[v+1]) holds 3f+c with F(f,c) = v,
 /// in increasing face order.
 struct VertexCorners {
@@ -93,12 +105,12 @@ Eigen::SparseMatrix<double> assemble_vertex_operator(const Eigen::MatrixXi& F, E
                                                      Entry&& entry) {
   const VertexCorners vc = vertex_corners(F, n);
   Eigen::SparseMatrix<double> A(n, n);
-  std::vector<int> col_nnz(static_cast<size_t>(n));
+  std::vector<int> col_nnz = filled_vector(static_cast<size_t>(n), 0);
   // Pass 1: number of distinct rows per column (the diagonal plus the distinct one-ring neighbours),
   // deduplicated with a per-thread slot array (slot[row] ≥ 0 while row is in the current column).
 #pragma omp parallel if (parallel::worth(n, parallel::kAssembly))
   {
-    std::vector<int> slot(static_cast<size_t>(n), -1), rows;
+    std::vector<int> slot = filled_vector(static_cast<size_t>(n), -1), rows;
 #pragma omp for schedule(static)
     for (Eigen::Index j = 0; j < n; ++j) {
       rows.assign(1, static_cast<int>(j));
@@ -120,11 +132,13 @@ Eigen::SparseMatrix<double> assemble_vertex_operator(const Eigen::MatrixXi& F, E
   A.resizeNonZeros(outer[n]);
   int* inner = A.innerIndexPtr();
   double* value = A.valuePtr();
+  prepare_fresh(inner, sizeof(int) * static_cast<std::size_t>(outer[n]));  // written whole below
+  prepare_fresh(value, sizeof(double) * static_cast<std::size_t>(outer[n]));
   // Pass 2: accumulate each column's entries in gather order (deterministic sums), then sort the few
   // distinct rows and write them.
 #pragma omp parallel if (parallel::worth(n, parallel::kAssembly))
   {
-    std::vector<int> slot(static_cast<size_t>(n), -1);
+    std::vector<int> slot = filled_vector(static_cast<size_t>(n), -1);
     std::vector<std::pair<int, double>> buf;
 #pragma omp for schedule(static)
     for (Eigen::Index j = 0; j < n; ++j) {
