@@ -12,15 +12,25 @@ namespace spinmotor {
 namespace {
 constexpr std::uintptr_t kHugePage = std::uintptr_t{2} << 20;
 constexpr std::uintptr_t kPage = 4096;  // the smallest page: a populated range is rounded inwards to it
+
+/// madvise(advice) on the whole `align`-sized pages inside [p, p + bytes), if any. An error is ignored:
+/// every advice here is a hint (EINVAL for MADV_POPULATE_WRITE before Linux 5.14; ENOMEM or EFAULT
+/// when memory runs out, the pages then fault one by one and an out-of-memory shows where they are
+/// written).
+void advise_inside([[maybe_unused]] void* p, [[maybe_unused]] std::size_t bytes,
+                   [[maybe_unused]] std::uintptr_t align, [[maybe_unused]] int advice) noexcept {
+#if defined(__linux__)
+  const auto begin = reinterpret_cast<std::uintptr_t>(p);
+  const std::uintptr_t first = (begin + align - 1) & ~(align - 1);
+  const std::uintptr_t last = (begin + bytes) & ~(align - 1);
+  if (last > first) (void)madvise(reinterpret_cast<void*>(first), last - first, advice);
+#endif
+}
 }  // namespace
 
 void advise_huge_pages(void* p, std::size_t bytes) noexcept {
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  if (p == nullptr || bytes < kHugePageAdviceBytes) return;
-  const auto begin = reinterpret_cast<std::uintptr_t>(p);
-  const std::uintptr_t first = (begin + kHugePage - 1) & ~(kHugePage - 1);
-  const std::uintptr_t last = (begin + bytes) & ~(kHugePage - 1);
-  if (last > first) (void)madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+#if defined(MADV_HUGEPAGE)
+  if (p != nullptr && bytes >= kHugePageAdviceBytes) advise_inside(p, bytes, kHugePage, MADV_HUGEPAGE);
 #else
   (void)p;
   (void)bytes;
@@ -28,14 +38,8 @@ void advise_huge_pages(void* p, std::size_t bytes) noexcept {
 }
 
 void populate_pages(void* p, std::size_t bytes) noexcept {
-#if defined(__linux__) && defined(MADV_POPULATE_WRITE)
-  if (p == nullptr || bytes < kPopulateBytes) return;
-  const auto begin = reinterpret_cast<std::uintptr_t>(p);
-  const std::uintptr_t first = (begin + kPage - 1) & ~(kPage - 1);
-  const std::uintptr_t last = (begin + bytes) & ~(kPage - 1);
-  // EINVAL before Linux 5.14 (no such advice), ENOMEM/EFAULT when memory runs out: the pages then
-  // fault one by one as before, and an out-of-memory is reported where the memory is written.
-  if (last > first) (void)madvise(reinterpret_cast<void*>(first), last - first, MADV_POPULATE_WRITE);
+#if defined(MADV_POPULATE_WRITE)
+  if (p != nullptr && bytes >= kPopulateBytes) advise_inside(p, bytes, kPage, MADV_POPULATE_WRITE);
 #else
   (void)p;
   (void)bytes;
