@@ -15,7 +15,8 @@ const char* in_running_build(const char* built, const char* exe_dir) {
   if (ec || running == fs::path(exe_dir)) return built;
   static std::mutex mutex;
   static std::list<std::string> kept;  // stable addresses for the returned strings
-  const std::string mapped = (running / fs::path(built).lexically_relative(exe_dir)).lexically_normal().string();
+  const std::string mapped =
+      (running / fs::path(built).lexically_relative(exe_dir)).lexically_normal().string();
   const std::lock_guard lock(mutex);
   for (const std::string& s : kept) {
     if (s == mapped) return s.c_str();
