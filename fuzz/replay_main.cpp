@@ -1,8 +1,9 @@
-// The main of the fuzz targets in builds without libFuzzer (every build but SPINMOTOR_FUZZ's): runs
-// LLVMFuzzerTestOneInput once on each file given, and on each file of each directory given (sorted, so
-// the order is stable). ctest uses it to replay the seed corpora and the saved crash inputs; a crash
-// or an escaping exception aborts, which fails the test. Exit 1 when there is no input at all, so that
-// a wrong path cannot pass as an empty run.
+// The main of the fuzz targets in builds without libFuzzer (every build but SPINMOTOR_FUZZ's): runs the
+// target's LLVMFuzzerTestOneInput (renamed spinmotor_fuzz_<name> in these builds, fuzz/CMakeLists.txt)
+// once on each file given, and on each file of each directory given (sorted, so the order is stable).
+// ctest uses it to replay the seed corpora and the saved crash inputs; a crash or an escaping exception
+// aborts, which fails the test. Exit 1 when there is no input at all, so that a wrong path cannot pass
+// as an empty run.
 //
 //   fuzz_<name> [--mutate SECONDS [--seed N] [--keep FILE]] FILE|DIR...
 //
@@ -11,6 +12,8 @@
 // once; no coverage guidance (that is libFuzzer's, scripts/fuzz), but no extra build either: CI runs
 // it in the sanitizer build. Each input is written to --keep (default ./fuzz-mutate-<pid>.bin) before
 // it runs, so a crash leaves it on disk; an input running over 10 s ends the process (SIGALRM).
+#include "replay_main.hpp"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -26,9 +29,10 @@
 #include <string>
 #include <vector>
 
-extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size);
-
 namespace {
+
+/// The target this process replays (replay_main's argument).
+spinmotor::fuzz::Entry one_input = nullptr;
 
 using Bytes = std::vector<std::uint8_t>;
 
@@ -41,7 +45,7 @@ void run(const std::filesystem::path& file) {
   std::printf("running %s\n", file.string().c_str());
   std::fflush(stdout);  // the name of the input is out before a crash
   const Bytes bytes = read_bytes(file);
-  LLVMFuzzerTestOneInput(bytes.data(), bytes.size());
+  one_input(bytes.data(), bytes.size());
 }
 
 /// One random edit of `b` (which stays under 64 KiB); `other` is another input, for splices.
@@ -106,7 +110,7 @@ int mutate(const std::vector<std::filesystem::path>& files, double seconds, std:
       out.write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
     }
     alarm(10);
-    LLVMFuzzerTestOneInput(b.data(), b.size());
+    one_input(b.data(), b.size());
     alarm(0);
     ++runs;
   }
@@ -117,7 +121,8 @@ int mutate(const std::vector<std::filesystem::path>& files, double seconds, std:
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int spinmotor::fuzz::replay_main(int argc, char** argv, Entry entry) {
+  one_input = entry;
   std::vector<std::filesystem::path> files;
   double mutate_seconds = 0;
   std::uint64_t seed =
