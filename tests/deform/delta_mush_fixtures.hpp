@@ -43,7 +43,8 @@ inline Eigen::MatrixXd random_weights(Eigen::Index n, int B, std::mt19937& rng) 
 }
 
 /// Each bone's rest motor after a random rigid motion of up to `degrees`.
-inline std::vector<ga::Mot> random_frames(const std::vector<Bone>& bones, std::mt19937& rng, double degrees = 60) {
+inline std::vector<ga::Mot> random_frames(const std::vector<Bone>& bones, std::mt19937& rng,
+                                          double degrees = 60) {
   std::uniform_real_distribution<double> u(-1, 1);
   std::vector<ga::Mot> f;
   for (const Bone& b : bones)

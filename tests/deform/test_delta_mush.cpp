@@ -14,6 +14,7 @@
 #include <random>
 #include <set>
 
+#include "delta_mush_fixtures.hpp"
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/deform/delta_mush.hpp"
 #include "spinmotor/deform/direct_delta_mush.hpp"
@@ -23,48 +24,17 @@
 #include "spinmotor/mesh/metrics/deformation_metrics.hpp"
 #include "spinmotor/mesh/topology.hpp"
 
-// Counting malloc (every operator new and every Eigen heap block goes through it with glibc), to check
-// that pose() allocates nothing from the second call on. Not under a sanitizer, which owns malloc.
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define SPINMOTOR_COUNT_MALLOC 0
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
-#define SPINMOTOR_COUNT_MALLOC 0
-#endif
-#endif
-#if !defined(SPINMOTOR_COUNT_MALLOC) && defined(__GLIBC__)
-#define SPINMOTOR_COUNT_MALLOC 1
-#endif
-#ifndef SPINMOTOR_COUNT_MALLOC
-#define SPINMOTOR_COUNT_MALLOC 0
-#endif
-
-#if SPINMOTOR_COUNT_MALLOC
-#include <atomic>
-namespace {
-std::atomic<long> g_mallocs{0};
-}
-extern "C" void* __libc_malloc(std::size_t);
-extern "C" void* malloc(std::size_t n) {
-  g_mallocs.fetch_add(1, std::memory_order_relaxed);
-  return __libc_malloc(n);
-}
-#endif
-
 namespace test_delta_mush {
 
 using namespace spinmotor;
 using Eigen::Index;
 using Eigen::MatrixXd;
 using Eigen::Vector3d;
+using namespace test_delta_mush_fixtures;
 
 namespace {
 
 const ga::Mot kId(1, 0, 0, 0, 0, 0, 0, 0);
-
-ga::Mot rigid(const Vector3d& axis, double degrees, const Vector3d& t) {
-  return ga::motor(ga::rotor(axis.normalized(), degrees * M_PI / 180.0), ga::translator(t));
-}
 
 /// Rotation by `degrees` about the axis through `c`.
 ga::Mot rotation_about(const Vector3d& c, const Vector3d& axis, double degrees) {
@@ -92,39 +62,9 @@ MatrixXd arm_weights(const MatrixXd& V, double h = 1.5) {
   return W;
 }
 
-std::vector<Bone> six_bones() {
-  std::vector<Bone> b;
-  for (int j = 0; j < 6; ++j)
-    b.push_back({std::string("b").append(std::to_string(j)),
-                 j - 1,
-                 {0, 0, 1.0 * j},
-                 {0, 0, 1.0 * j + 1},
-                 rigid({1.0, static_cast<double>(j), 0.0}, 10 * j, {0, 0, 0.1 * j})});
-  return b;
-}
-
-/// Random weights on B bones, one zero per row.
-MatrixXd random_weights(Index n, int B, std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  MatrixXd W(n, B);
-  for (Index i = 0; i < n; ++i) {
-    for (int j = 0; j < B; ++j) W(i, j) = u(rng);
-    W(i, i % B) = 0.0;
-  }
-  return W;
-}
-
 std::vector<ga::Mot> rest_frames(const std::vector<Bone>& bones) {
   std::vector<ga::Mot> f;
   for (const Bone& b : bones) f.push_back(b.rest);
-  return f;
-}
-
-std::vector<ga::Mot> random_frames(const std::vector<Bone>& bones, std::mt19937& rng, double degrees = 60) {
-  std::uniform_real_distribution<double> u(-1, 1);
-  std::vector<ga::Mot> f;
-  for (const Bone& b : bones)
-    f.push_back(rigid({u(rng), u(rng), u(rng) + 2.0}, degrees * u(rng), {u(rng), u(rng), u(rng)}) * b.rest);
   return f;
 }
 
@@ -557,35 +497,6 @@ TEST_CASE("delta mush: bad input names the vertex, bone, edge or option", "[mush
                     Catch::Contains("iterations"));
   CHECK_THROWS_WITH(DirectDeltaMushDeformer::bind(m, bones, W, {.tau = 0.0}), Catch::Contains("tau"));
   CHECK_THROWS_WITH(DirectDeltaMushDeformer::bind(m, bones, W, {.prune = 1.0}), Catch::Contains("prune"));
-}
-
-TEST_CASE("delta mush: pose allocates nothing from the second frame on (DM, DDM)", "[mush]") {
-#if SPINMOTOR_COUNT_MALLOC
-  const Mesh m = torus(2.0, 0.6, 40, 20);  // serial (below parallel::kMotorBlend): no OpenMP team to set up
-  std::mt19937 rng(29);
-  const auto bones = six_bones();
-  const MatrixXd W = random_weights(m.V.rows(), 6, rng);
-  const auto f1 = random_frames(bones, rng), f2 = random_frames(bones, rng);
-  DeltaMushDeformer dm = DeltaMushDeformer::bind(m, bones, W, {});
-  DeltaMushDeformer dm_dlb = DeltaMushDeformer::bind(m, bones, W, {.blend = SkinDeformer::Blend::Linear});
-  DirectDeltaMushDeformer ddm = DirectDeltaMushDeformer::bind(m, bones, W, {});
-  MatrixXd V1, V2, V3;
-  dm.pose(f1, V1);
-  dm_dlb.pose(f1, V2);
-  ddm.pose(f1, V3);
-  const long before = g_mallocs.load();
-  dm.pose(f2, V1);
-  dm_dlb.pose(f2, V2);
-  ddm.pose(f2, V3);
-  const long count = g_mallocs.load() - before;
-  CHECK(count == 0);
-  MatrixXd fresh;  // the counter does count: a new output buffer is one allocation
-  const long before_fresh = g_mallocs.load();
-  ddm.pose(f2, fresh);
-  CHECK(g_mallocs.load() - before_fresh >= 1);
-#else
-  WARN("skipped: malloc is not counted under a sanitizer or without glibc");
-#endif
 }
 
 TEST_CASE("delta mush: bind and pose times at 10k and 100k vertices", "[.timing]") {
