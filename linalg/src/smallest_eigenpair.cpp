@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "spinmotor/core/error.hpp"
@@ -94,6 +95,58 @@ IterationResult inverse_iteration(const Eigen::SparseMatrix<Scalar>& K, const Ei
   return r;
 }
 
+// The Rayleigh–Ritz problems below are k × k (k ≤ max_basis) and solved in real arithmetic for both
+// scalar types: a Hermitian H = A + iB has the real symmetric embedding [[A, −B], [B, A]], whose
+// eigenvalues are H's, each twice, with eigenvectors (x; y) and (−y; x) for H's x + iy. Eigen's dense
+// Hermitian solvers for complex matrices (and a pivoted QR for each type) made this file the longest
+// compile of the library: 42 s of CPU at -O3 and 112 s under ASan + UBSan, 77 s of it the complex
+// instantiations (docs/performance.md, "Session 22").
+using RealMat = Eigen::MatrixXd;
+
+template <class Scalar>
+RealMat real_embedding(const Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>& H) {
+  if constexpr (std::is_same_v<Scalar, double>) {
+    return H;
+  } else {
+    const Eigen::Index k = H.rows();
+    RealMat M(2 * k, 2 * k);
+    M.topLeftCorner(k, k) = H.real();
+    M.bottomRightCorner(k, k) = H.real();
+    M.bottomLeftCorner(k, k) = H.imag();
+    M.topRightCorner(k, k) = -H.imag();
+    return M;
+  }
+}
+
+// The inverse map on eigenvector columns: (x; y) ↦ x + iy (the identity for real matrices).
+template <class Scalar>
+Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> from_real_embedding(const RealMat& U) {
+  if constexpr (std::is_same_v<Scalar, double>) {
+    return U;
+  } else {
+    const Eigen::Index k = U.rows() / 2;
+    return U.topRows(k).template cast<Scalar>() + Scalar(0, 1) * U.bottomRows(k).template cast<Scalar>();
+  }
+}
+
+// An orthonormal basis of the span of U's columns (classical Gram–Schmidt, twice; a column that adds
+// less than 1e-8 of its norm is left out: in the complex case (x; y) and (−y; x) map to x + iy and
+// i(x + iy), one direction).
+template <class Mat>
+Mat orthonormal_span(const Mat& U) {
+  Mat Q(U.rows(), U.cols());
+  Eigen::Index q = 0;
+  for (Eigen::Index j = 0; j < U.cols(); ++j) {
+    auto v = U.col(j).eval();
+    const double n0 = v.norm();
+    for (int pass = 0; pass < 2; ++pass)
+      if (q > 0) v -= Q.leftCols(q) * (Q.leftCols(q).adjoint() * v);
+    const double nv = v.norm();
+    if (nv > 1e-8 * n0) Q.col(q++) = v / nv;
+  }
+  return Q.leftCols(q);
+}
+
 // Inverse iteration accelerated by Rayleigh–Ritz on all its iterates (i.e. on the Krylov space of
 // K⁻¹, or K⁻¹G, built from the start vector): the same solves as inverse iteration, but the Ritz
 // vector converges at the Lanczos rate instead of the power rate θ1/θ2. The basis is kept orthonormal
@@ -160,37 +213,40 @@ IterationResult krylov_inverse_iteration(const Eigen::SparseMatrix<Scalar>& K,
     // ρ = 0 — any vector of its eigenspace is a solution, and rounding noise would pick one at random;
     // take the projection of the start vector instead, which is what plain inverse iteration
     // converges to.
-    const Mat H = Hk.topLeftCorner(k, k);
-    Mat Uc;  // Ritz vectors (basis coordinates) of the wanted cluster
+    const RealMat H = real_embedding<Scalar>(Mat(Hk.topLeftCorner(k, k)));
+    RealMat Ur;  // Ritz vectors (embedded basis coordinates) of the wanted cluster
     if (!G) {
-      Eigen::SelfAdjointEigenSolver<Mat> es(H);
+      Eigen::SelfAdjointEigenSolver<RealMat> es(H);
       const Eigen::VectorXd& ev = es.eigenvalues();
-      int c = 1;
-      while (c < k && ev[c] - ev[0] <= 1e-6 * std::abs(ev[0])) ++c;
-      Uc = es.eigenvectors().leftCols(c);
+      Eigen::Index c = 1;
+      while (c < ev.size() && ev[c] - ev[0] <= 1e-6 * std::abs(ev[0])) ++c;
+      Ur = es.eigenvectors().leftCols(c);
       r.theta = ev[0];
     } else {
-      const Mat Hg = Hgk.topLeftCorner(k, k);
+      const RealMat Hg = real_embedding<Scalar>(Mat(Hgk.topLeftCorner(k, k)));
       // Hg u = μ H u with H positive definite; the largest |μ| is the smallest |γ| = |1/μ|.
-      Eigen::GeneralizedSelfAdjointEigenSolver<Mat> es(Hg, H);
+      Eigen::GeneralizedSelfAdjointEigenSolver<RealMat> es(Hg, H);
       const Eigen::VectorXd& mu = es.eigenvalues();
       Eigen::Index best = 0;
       mu.cwiseAbs().maxCoeff(&best);
       std::vector<Eigen::Index> cl;
       for (Eigen::Index i = 0; i < mu.size(); ++i)
         if (std::abs(mu[i] - mu[best]) <= 1e-6 * std::abs(mu[best])) cl.push_back(i);
-      Uc.resize(k, static_cast<Eigen::Index>(cl.size()));
+      Ur.resize(H.rows(), static_cast<Eigen::Index>(cl.size()));
       for (std::size_t i = 0; i < cl.size(); ++i)
-        Uc.col(static_cast<Eigen::Index>(i)) = es.eigenvectors().col(cl[i]);
+        Ur.col(static_cast<Eigen::Index>(i)) = es.eigenvectors().col(cl[i]);
       r.theta = 1.0 / mu[best];
     }
-    Eigen::Matrix<Scalar, Eigen::Dynamic, 1> u;
-    if (Uc.cols() == 1) {
+    const Mat Uc = from_real_embedding<Scalar>(Ur);
+    Vec u;
+    if (Uc.cols() == 1) {  // a simple eigenvalue (of a real matrix: a complex one's embedding has two)
       u = Uc.col(0);
     } else {
+      // The projection of the start vector on the cluster's span.
+      const Mat Q = orthonormal_span(Uc);
       const Vec c0 = Vb.leftCols(k).adjoint() * x0;
-      u = Uc * Uc.colPivHouseholderQr().solve(c0);
-      if (!(u.norm() > 1e-8 * c0.norm())) u = Uc.col(0);  // the start has no component there
+      u = Q * (Q.adjoint() * c0);
+      if (!(u.norm() > 1e-8 * c0.norm())) u = Q.col(0);  // the start has no component there
     }
     x = Vb.leftCols(k) * u;
     const double nx = x.norm();
