@@ -129,9 +129,15 @@ Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> from_real_embedding(const 
   }
 }
 
-// An orthonormal basis of the span of U's columns (classical Gram–Schmidt, twice; a column that adds
-// less than 1e-8 of its norm is left out: in the complex case (x; y) and (−y; x) map to x + iy and
-// i(x + iy), one direction).
+// v minus its components along the first q (orthonormal) columns of Q: classical Gram–Schmidt, twice.
+template <class Mat, class Vec>
+void orthogonalize(const Mat& Q, Eigen::Index q, Vec& v) {
+  for (int pass = 0; pass < 2; ++pass)
+    if (q > 0) v -= Q.leftCols(q) * (Q.leftCols(q).adjoint() * v);
+}
+
+// An orthonormal basis of the span of U's columns; a column that adds less than 1e-8 of its norm is
+// left out (in the complex case (x; y) and (−y; x) map to x + iy and i(x + iy), one direction).
 template <class Mat>
 Mat orthonormal_span(const Mat& U) {
   Mat Q(U.rows(), U.cols());
@@ -139,8 +145,7 @@ Mat orthonormal_span(const Mat& U) {
   for (Eigen::Index j = 0; j < U.cols(); ++j) {
     auto v = U.col(j).eval();
     const double n0 = v.norm();
-    for (int pass = 0; pass < 2; ++pass)
-      if (q > 0) v -= Q.leftCols(q) * (Q.leftCols(q).adjoint() * v);
+    orthogonalize(Q, q, v);
     const double nv = v.norm();
     if (nv > 1e-8 * n0) Q.col(q++) = v / nv;
   }
@@ -178,8 +183,7 @@ IterationResult krylov_inverse_iteration(const Eigen::SparseMatrix<Scalar>& K,
   };
   auto push = [&](Vec v) -> bool {
     const double n0 = v.norm();
-    for (int pass = 0; pass < 2; ++pass)
-      if (k > 0) v -= Vb.leftCols(k) * (Vb.leftCols(k).adjoint() * v);
+    orthogonalize(Vb, k, v);
     const double nv = v.norm();
     // Nothing new: the Krylov space is invariant and its Ritz pairs are exact.
     if (!(nv > 1e-12 * n0) || !std::isfinite(nv)) return false;
