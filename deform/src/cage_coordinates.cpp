@@ -4,6 +4,7 @@
 #include <Eigen/LU>
 #include <Eigen/SparseCore>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -15,6 +16,7 @@
 #include "spinmotor/core/parallel.hpp"
 #include "spinmotor/deform/deformer.hpp"
 #include "spinmotor/linalg/cholesky_solver.hpp"
+#include "spinmotor/linalg/geometric_ordering.hpp"
 
 namespace spinmotor {
 
@@ -221,8 +223,9 @@ namespace {
 /// class, index: 45 bytes), the right-hand sides and solutions (2 m k doubles), the 7-point matrix
 /// and its triplets, the Cholesky factor, and the n×k result. The unknowns m are the nodes inside the
 /// cage, |volume| / h³. Nested dissection of a 3D grid Laplacian fills the factor with about
-/// c m^(4/3) nonzeros (George 1973); c measured with CHOLMOD's METIS (docs/performance.md, "Memory
-/// estimates"): 4.1-7.2 on balls and 4.3-7.7 on cubes, grids 16-96 (m up to 885k), slowly growing with m.
+/// c m^(4/3) nonzeros (George 1973); c measured (docs/performance.md, "Memory estimates") with the grid
+/// nested dissection used below: 3.7-5.0 on balls and 3.9-5.2 on cubes, grids 16-96 (m up to 885k),
+/// slowly growing with m; with CHOLMOD's METIS, which ordered it before: 4.1-7.2 and 4.3-7.7.
 /// The estimate takes c = 8 up to 10^6 unknowns and grows it as (m / 10^6)^0.12 beyond (the growth
 /// between the two largest cubes).
 constexpr double kGridFactorFill = 8.0;
@@ -313,13 +316,23 @@ Eigen::MatrixXd harmonic_cage_coordinates(const Eigen::MatrixXd& C, const Eigen:
       if (X2 >= 0 && Y2 >= 0 && Z2 >= 0 && X2 < N[0] && Y2 < N[1] && Z2 < N[2]) push(id(X2, Y2, Z2));
     }
   }
-  std::vector<Index> unknown(nodes, -1);
-  Index m = 0;
-  for (Index v = 0; v < nodes; ++v)
-    if (cls[v] == kUnknown) unknown[v] = m++;
+  // The unknowns, numbered in the grid's nested-dissection order (linalg/geometric_ordering.hpp): the
+  // factorization takes them as numbered, without a graph partitioner.
+  std::vector<std::array<int, 3>> at;
+  std::vector<Index> inside;
+  for (int x = 0; x < N[0]; ++x)
+    for (int y = 0; y < N[1]; ++y)
+      for (int z = 0; z < N[2]; ++z)
+        if (cls[id(x, y, z)] == kUnknown) at.push_back({x, y, z}), inside.push_back(id(x, y, z));
+  const auto m = static_cast<Index>(inside.size());
   if (m == 0)
     throw Error("harmonic_cage_coordinates: no grid node inside the cage (grid " + std::to_string(grid) +
                 " too coarse)");
+  std::vector<Index> unknown(nodes, -1);
+  {
+    const std::vector<int> order = grid_nested_dissection(at);
+    for (Index r = 0; r < m; ++r) unknown[inside[order[r]]] = r;
+  }
 
   // The 7-point Laplacian on the interior nodes (rows scaled by h²), boundary neighbours to the rhs.
   std::vector<Eigen::Triplet<double>> t;
@@ -346,10 +359,7 @@ Eigen::MatrixXd harmonic_cage_coordinates(const Eigen::MatrixXd& C, const Eigen:
       }
   Eigen::SparseMatrix<double> A(m, m);
   A.setFromTriplets(t.begin(), t.end());
-  // Nested dissection: on a 3D grid it has far less fill than minimum degree (grid 64: see bench_ffd_skin).
-  CholeskySolver::Options so;
-  so.ordering = m > 20000 ? CholeskySolver::Ordering::METIS : CholeskySolver::Ordering::AMD;
-  CholeskySolver solver(so);
+  CholeskySolver solver({.ordering = CholeskySolver::Ordering::Natural});  // numbered in ND order above
   solver.compute(A);
   const Eigen::MatrixXd U = solver.solve(B);
   B.resize(0, 0);

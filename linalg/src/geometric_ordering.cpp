@@ -1,6 +1,8 @@
 #include "spinmotor/linalg/geometric_ordering.hpp"
 
 #include <algorithm>
+#include <limits>
+#include <numeric>
 
 #include "spinmotor/core/error.hpp"
 
@@ -54,7 +56,65 @@ void dissect(const Eigen::Ref<const Eigen::MatrixXd>& P, std::span<const int> of
   order.insert(order.end(), sep.begin(), sep.end());
 }
 
+/// grid_nested_dissection's directions a: s = a·x changes by at most one along a 7-point edge.
+constexpr std::array<std::array<int, 3>, 7> kGridDirections{
+    {{1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {-1, 1, 1}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+
+/// Appends the nested-dissection order of `region` (indices into x) to `order`; `s` is scratch.
+void dissect_grid(std::span<const std::array<int, 3>> x, std::vector<int>& region, std::vector<long>& s,
+                  std::vector<int>& order) {
+  constexpr std::size_t kLeaf = 32;
+  if (region.size() <= kLeaf) {
+    order.insert(order.end(), region.begin(), region.end());
+    return;
+  }
+  const auto along = [&](const std::array<int, 3>& a, int v) {
+    return long{a[0]} * x[v][0] + long{a[1]} * x[v][1] + long{a[2]} * x[v][2];
+  };
+  // Per direction, the plane s = a·x through the median, moved off either end so that both sides
+  // keep unknowns, and the unknowns on it. The fewest on the plane win.
+  int best = -1;
+  long best_plane = 0;
+  std::size_t best_size = region.size();
+  const auto mid = static_cast<std::ptrdiff_t>(region.size() / 2);
+  for (int d = 0; d < static_cast<int>(kGridDirections.size()); ++d) {
+    s.clear();
+    for (int v : region) s.push_back(along(kGridDirections[d], v));
+    const auto [lo, hi] = std::minmax_element(s.begin(), s.end());
+    if (*hi - *lo < 2) continue;
+    const long first = *lo, last = *hi;
+    std::nth_element(s.begin(), s.begin() + mid, s.end());
+    const long plane = std::clamp(s[static_cast<std::size_t>(mid)], first + 1, last - 1);
+    const auto on = static_cast<std::size_t>(std::count(s.begin(), s.end(), plane));
+    if (on < best_size) best = d, best_plane = plane, best_size = on;
+  }
+  if (best < 0) {  // a region no more than two layers thick in every direction: keep it whole
+    order.insert(order.end(), region.begin(), region.end());
+    return;
+  }
+  std::vector<int> below, above, plane;
+  for (int v : region) {
+    const long sv = along(kGridDirections[best], v);
+    (sv < best_plane ? below : sv > best_plane ? above : plane).push_back(v);
+  }
+  std::vector<int>().swap(region);
+  dissect_grid(x, below, s, order);
+  dissect_grid(x, above, s, order);
+  order.insert(order.end(), plane.begin(), plane.end());
+}
+
 }  // namespace
+
+std::vector<int> grid_nested_dissection(std::span<const std::array<int, 3>> nodes) {
+  if (nodes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw Error("grid_nested_dissection: more than 2^31 - 1 unknowns");
+  std::vector<int> region(nodes.size()), order;
+  std::vector<long> s;
+  std::iota(region.begin(), region.end(), 0);
+  order.reserve(nodes.size());
+  dissect_grid(nodes, region, s, order);
+  return order;
+}
 
 std::vector<int> geometric_nested_dissection(const Eigen::Ref<const Eigen::MatrixXd>& P,
                                              std::span<const int> off, std::span<const int> nbr,

@@ -17,7 +17,8 @@
 //   interior  the rest (inside the cage): unknowns of the 7-point Laplace equation Δλ_j = 0.
 // (A node-based form of Joshi's cell classification: every edge between an inside and an outside node
 // crosses the cage within h/2 of one of its ends, so boundary nodes separate interior from exterior.)
-// One CHOLMOD factorization of the interior Laplacian (SPD), one right-hand side per cage vertex.
+// One CHOLMOD factorization of the interior Laplacian (SPD), its unknowns numbered by the grid's nested
+// dissection (linalg/geometric_ordering.hpp), one right-hand side per cage vertex.
 // At a point, λ is the trilinear interpolation of the 8 nodes of its cell; exterior nodes of a cell
 // that contains an inside point lie within √3 h of the cage and take the barycentric values of their
 // closest point. Interpolation error: a linear function f is reproduced up to max |∇f| · √3 h (the
