@@ -9,8 +9,10 @@
 #include <mutex>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <thread>
 #include <type_traits>
+#include <vector>
 
 #include "solver_detail.hpp"
 #include "spinmotor/core/error.hpp"
@@ -21,6 +23,11 @@
 
 namespace spinmotor {
 namespace {
+// solve(): right-hand sides per thread, and the work (factor nonzeros × right-hand sides) from which
+// the columns are split among the cores (below, one thread; a 100k-face spin factor's 8M nonzeros
+// times its 1–4 columns stays below).
+constexpr Eigen::Index kColumnsPerThread = 8;
+constexpr double kThreadedSolveWork = 1e8;
 // Relative pivot size below which a factor is declared numerically singular (cond ≳ 4.5e12).
 constexpr double kSingularPivot = 1e3 * std::numeric_limits<double>::epsilon();
 // Whether A stores both triangles: as many entries above the diagonal as below (the input convention
@@ -337,30 +344,72 @@ typename BasicCholeskySolver<Scalar>::Matrix BasicCholeskySolver<Scalar>::solve(
     bdata = scaled.data();
     bstride = scaled.rows();
   }
-  cholmod_dense b{};
-  b.nrow = static_cast<size_t>(B.rows());
-  b.ncol = static_cast<size_t>(B.cols());
-  b.d = static_cast<size_t>(bstride);
-  b.nzmax = b.d * b.ncol;
-  b.x = const_cast<Scalar*>(bdata);
-  b.xtype = Impl::kXtype;
-  b.dtype = CHOLMOD_DOUBLE;
   const int sys = system == System::A    ? CHOLMOD_A
                   : system == System::L  ? CHOLMOD_L
                   : system == System::Lt ? CHOLMOD_Lt
                   : system == System::P  ? CHOLMOD_P
                                          : CHOLMOD_Pt;
-  cholmod_dense* x = nullptr;
-  {
-    const BlasCallScope call;
-    x = cholmod_solve(sys, m.L, &b, &m.common);
+  // Columns [j0, j1) of B into X, with `common`'s workspace: CHOLMOD's status, or CHOLMOD_INVALID
+  // when it returned no solution without a negative status.
+  const auto solve_columns = [&](Eigen::Index j0, Eigen::Index j1, cholmod_common& common) {
+    cholmod_dense b{};
+    b.nrow = static_cast<size_t>(B.rows());
+    b.ncol = static_cast<size_t>(j1 - j0);
+    b.d = static_cast<size_t>(bstride);
+    b.nzmax = b.d * b.ncol;
+    b.x = const_cast<Scalar*>(bdata + j0 * bstride);
+    b.xtype = Impl::kXtype;
+    b.dtype = CHOLMOD_DOUBLE;
+    cholmod_dense* x = nullptr;
+    {
+      const BlasCallScope call;
+      x = cholmod_solve(sys, m.L, &b, &common);
+    }
+    if (!x) return common.status < 0 ? common.status : CHOLMOD_INVALID;
+    const Scalar* xs = static_cast<const Scalar*>(x->x);
+    for (Eigen::Index j = j0; j < j1; ++j)
+      X.col(j) = Eigen::Map<const Eigen::Matrix<Scalar, Eigen::Dynamic, 1>>(
+          xs + (j - j0) * static_cast<Eigen::Index>(x->d), X.rows());
+    cholmod_free_dense(&x, &common);
+    return common.status;
+  };
+  // Many right-hand sides against a large factor: the columns in one block per core, each solved on
+  // its own thread with its own CHOLMOD workspace (the factor is only read; OpenBLAS stays on one
+  // thread per caller). The cage bind's 98 columns against 29M factor nonzeros: 0.77–0.79 s on one
+  // core, 0.41–0.45 s on two (docs/performance.md, "Cage bind").
+  const auto cores = static_cast<Eigen::Index>(std::max(1u, std::thread::hardware_concurrency()));
+  const Eigen::Index blocks = m.common.lnz * static_cast<double>(B.cols()) < kThreadedSolveWork
+                                  ? 1
+                                  : std::min(cores, B.cols() / kColumnsPerThread);
+  int status = CHOLMOD_OK;
+  if (blocks <= 1) {
+    status = solve_columns(0, B.cols(), m.common);
+  } else {
+    std::vector<int> block_status(static_cast<std::size_t>(blocks), CHOLMOD_OK);
+    const auto block = [&](Eigen::Index t) {
+      cholmod_common common;
+      cholmod_start(&common);
+      common.print = 0;
+      common.error_handler = nullptr;
+      block_status[static_cast<std::size_t>(t)] =
+          solve_columns(B.cols() * t / blocks, B.cols() * (t + 1) / blocks, common);
+      cholmod_finish(&common);
+    };
+    std::vector<std::thread> threads;
+    Eigen::Index t = 1;
+    try {
+      for (; t < blocks; ++t) threads.emplace_back(block, t);
+    } catch (const std::system_error&) {  // no thread to be had: the rest of the blocks here
+    }
+    for (Eigen::Index u = t; u < blocks; ++u) block(u);
+    block(0);
+    for (auto& thread : threads) thread.join();
+    for (int st : block_status) status = std::min(status, st);
   }
-  if (!x) m.check_status("solve"), throw numerical_error(std::string(kWho) + ": CHOLMOD solve failed");
-  const Scalar* xs = static_cast<const Scalar*>(x->x);
-  for (Eigen::Index j = 0; j < X.cols(); ++j)
-    X.col(j) = Eigen::Map<const Eigen::Matrix<Scalar, Eigen::Dynamic, 1>>(
-        xs + j * static_cast<Eigen::Index>(x->d), X.rows());
-  cholmod_free_dense(&x, &m.common);
+  if (status < 0) {
+    m.common.status = status;
+    m.check_status("solve");
+  }
   if (ldl && system == System::L)
     for (Eigen::Index j = 0; j < m.n; ++j) X.row(j) /= std::sqrt(m.simplicial_diagonal(j));
   if (!X.allFinite()) throw numerical_error(std::string(kWho) + ": the solution is not finite");
