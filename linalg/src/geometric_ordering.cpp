@@ -1,6 +1,7 @@
 #include "spinmotor/linalg/geometric_ordering.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <limits>
 #include <numeric>
 
@@ -72,11 +73,14 @@ void dissect_grid(std::span<const std::array<int, 3>> x, std::vector<int>& regio
     return long{a[0]} * x[v][0] + long{a[1]} * x[v][1] + long{a[2]} * x[v][2];
   };
   // Per direction, the plane s = a·x through the median, moved off either end so that both sides
-  // keep unknowns, and the unknowns on it. The fewest on the plane win.
+  // keep unknowns, and the unknowns on it. The fewest on the plane win among the planes that leave at
+  // most 3/4 of the region on either side (a median plane does, unless it had to move); without
+  // one, the most even split (so that the recursion stays O(log m) deep on any input).
   int best = -1;
   long best_plane = 0;
-  std::size_t best_size = region.size();
-  const auto mid = static_cast<std::ptrdiff_t>(region.size() / 2);
+  std::size_t best_cost = SIZE_MAX;
+  const std::size_t size = region.size();
+  const auto mid = static_cast<std::ptrdiff_t>(size / 2);
   for (int d = 0; d < static_cast<int>(kGridDirections.size()); ++d) {
     s.clear();
     for (int v : region) s.push_back(along(kGridDirections[d], v));
@@ -85,8 +89,11 @@ void dissect_grid(std::span<const std::array<int, 3>> x, std::vector<int>& regio
     const long first = *lo, last = *hi;
     std::nth_element(s.begin(), s.begin() + mid, s.end());
     const long plane = std::clamp(s[static_cast<std::size_t>(mid)], first + 1, last - 1);
-    const auto on = static_cast<std::size_t>(std::count(s.begin(), s.end(), plane));
-    if (on < best_size) best = d, best_plane = plane, best_size = on;
+    std::size_t below = 0, on = 0;
+    for (long sv : s) below += sv < plane, on += sv == plane;
+    const std::size_t larger = std::max(below, size - below - on);
+    const std::size_t cost = 4 * larger <= 3 * size ? on : size + larger;
+    if (cost < best_cost) best = d, best_plane = plane, best_cost = cost;
   }
   if (best < 0) {  // a region no more than two layers thick in every direction: keep it whole
     order.insert(order.end(), region.begin(), region.end());
