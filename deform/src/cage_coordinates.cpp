@@ -319,19 +319,21 @@ Eigen::MatrixXd harmonic_cage_coordinates(const Eigen::MatrixXd& C, const Eigen:
   // The unknowns, numbered in the grid's nested-dissection order (linalg/geometric_ordering.hpp): the
   // factorization takes them as numbered, without a graph partitioner.
   std::vector<std::array<int, 3>> at;
-  std::vector<Index> inside;
   for (int x = 0; x < N[0]; ++x)
     for (int y = 0; y < N[1]; ++y)
       for (int z = 0; z < N[2]; ++z)
-        if (cls[id(x, y, z)] == kUnknown) at.push_back({x, y, z}), inside.push_back(id(x, y, z));
-  const auto m = static_cast<Index>(inside.size());
+        if (cls[id(x, y, z)] == kUnknown) at.push_back({x, y, z});
+  const auto m = static_cast<Index>(at.size());
   if (m == 0)
     throw Error("harmonic_cage_coordinates: no grid node inside the cage (grid " + std::to_string(grid) +
                 " too coarse)");
   std::vector<Index> unknown(nodes, -1);
   {
     const std::vector<int> order = grid_nested_dissection(at);
-    for (Index r = 0; r < m; ++r) unknown[inside[order[r]]] = r;
+    for (Index r = 0; r < m; ++r) {
+      const auto& [x, y, z] = at[static_cast<std::size_t>(order[static_cast<std::size_t>(r)])];
+      unknown[id(x, y, z)] = r;
+    }
   }
 
   // The 7-point Laplacian on the interior nodes (rows scaled by h²), boundary neighbours to the rhs.

@@ -27,6 +27,8 @@ namespace {
 // the columns are split among the cores (below, one thread; a 100k-face spin factor's 8M nonzeros
 // times its 1–4 columns stays below).
 constexpr Eigen::Index kColumnsPerThread = 8;
+// The cores the threaded paths use (the BLAS of a large factorization, the blocks of a large solve).
+int cores() { return static_cast<int>(std::max(1u, std::thread::hardware_concurrency())); }
 constexpr double kThreadedSolveWork = 1e8;
 // Relative pivot size below which a factor is declared numerically singular (cond ≳ 4.5e12).
 constexpr double kSingularPivot = 1e3 * std::numeric_limits<double>::epsilon();
@@ -297,8 +299,7 @@ void BasicCholeskySolver<Scalar>::factorize(const SparseMatrix& A) {
   {
     // All cores for the BLAS of a large supernodal factor (blas_threads.hpp); fl: from analyze().
     const bool large = m.options.supernodal && m.common.fl >= kThreadedBlasFactorFlops;
-    const ScopedBlasThreads blas(large ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))
-                                       : 1);
+    const ScopedBlasThreads blas(large ? cores() : 1);
     const BlasCallScope call;
     const SerialOpenMPScope serial;  // CHOLMOD's OpenMP regions: plain calls (serial_openmp.hpp)
     cholmod_factorize(&s, m.L, &m.common);
@@ -377,10 +378,9 @@ typename BasicCholeskySolver<Scalar>::Matrix BasicCholeskySolver<Scalar>::solve(
   // its own thread with its own CHOLMOD workspace (the factor is only read; OpenBLAS stays on one
   // thread per caller). The cage bind's 98 columns against 29M factor nonzeros: 0.77–0.79 s on one
   // core, 0.41–0.45 s on two (docs/performance.md, "Cage bind").
-  const auto cores = static_cast<Eigen::Index>(std::max(1u, std::thread::hardware_concurrency()));
   const Eigen::Index blocks = m.common.lnz * static_cast<double>(B.cols()) < kThreadedSolveWork
                                   ? 1
-                                  : std::min(cores, B.cols() / kColumnsPerThread);
+                                  : std::min<Eigen::Index>(cores(), B.cols() / kColumnsPerThread);
   int status = CHOLMOD_OK;
   if (blocks <= 1) {
     status = solve_columns(0, B.cols(), m.common);
