@@ -117,6 +117,76 @@ def bone_weights(obj):
     return W / s[:, None], names
 
 
+def rest_bones(obj, names, V0, W):
+    """The rest bones of the weight columns `names` (W (n, B) and names from bone_weights), for the library's
+    per-bone default margin: (name, parent column or None, head, tail) in the object's local space (the space of
+    its mesh and of the Armature modifier's result), from each bone's head_local / tail_local in its armature's
+    space. A bone's parent is its nearest ancestor that is a column. The "(no bone)" column (vertices no bone
+    deforms) gets a root bone across their rest bounding box."""
+    found = {}
+    for m in armature_modifiers(obj):
+        for b in m.object.data.bones:
+            found.setdefault(b.name, (m.object, b))
+    col = {nm: c for c, nm in enumerate(names)}
+    to_local = obj.matrix_world.inverted()
+    bones = []
+    for c, nm in enumerate(names):
+        if nm not in found:  # "(no bone)": a root across the loose vertices
+            P = np.asarray(V0)[np.asarray(W)[:, c] > 0]
+            lo, hi = P.min(axis=0), P.max(axis=0)
+            if not np.linalg.norm(hi - lo) > 0:
+                hi = lo + np.array([0.0, 0.0, 1.0])
+            bones.append((nm, None, tuple(map(float, lo)), tuple(map(float, hi))))
+            continue
+        arm, b = found[nm]
+        M = to_local @ arm.matrix_world
+        p = b.parent
+        while p is not None and p.name not in col:
+            p = p.parent
+        bones.append((nm, col[p.name] if p is not None else None, tuple(M @ b.head_local), tuple(M @ b.tail_local)))
+    return bones
+
+
+# ---- welding by position ----------------------------------------------------------------------------------------
+
+
+class Weld:
+    """The mesh with the vertices of exactly equal rest positions merged (float32 coordinates, as Blender stores
+    them): importers split vertices at UV seams and hard edges (a glTF file arrives as loose triangles when every
+    corner has its own texture coordinate), which would leave the cleanup a surface of disconnected pieces.
+
+    first (k,): the first Blender vertex of each welded vertex, in order of appearance; inverse (n,): the welded
+    vertex of each Blender vertex; F (m', 3): the triangles on welded vertices (those that collapse dropped) and
+    tri_polygon (m',) their polygons. weld(X) takes per-vertex rows (positions, weights) to the welded mesh (the
+    first vertex of each group), unweld(Y) back to every Blender vertex."""
+
+    def __init__(self, V0, F, tri_polygon):
+        key = np.ascontiguousarray(V0, dtype=np.float32)
+        _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
+        order = np.argsort(first, kind="stable")
+        rank = np.empty_like(order)
+        rank[order] = np.arange(len(order))
+        self.first = first[order]
+        self.inverse = rank[np.asarray(inverse).ravel()]
+        Fw = self.inverse[F]
+        keep = (Fw[:, 0] != Fw[:, 1]) & (Fw[:, 1] != Fw[:, 2]) & (Fw[:, 2] != Fw[:, 0])
+        self.F = Fw[keep]
+        self.tri_polygon = np.asarray(tri_polygon)[keep]
+        self.n, self.k = len(V0), len(self.first)
+
+    def weld(self, X):
+        return np.asarray(X)[self.first]
+
+    def unweld(self, Y):
+        return np.asarray(Y)[self.inverse]
+
+    def blender_indices(self, welded):
+        """The Blender vertices of the welded vertices `welded` (every copy), increasing."""
+        mask = np.zeros(self.k, bool)
+        mask[np.asarray(welded, dtype=np.int64)] = True
+        return np.flatnonzero(mask[self.inverse])
+
+
 # ---- quasi-conformal error -----------------------------------------------------------------------------
 
 

@@ -5,6 +5,7 @@ Every operator reads everything, computes everything, and only then writes: an e
 spinmotor.Error, or from the Blender side) is reported in Blender's report area and leaves the object
 as it was (no shape key, no attribute, frame and key states restored).
 """
+import contextlib
 import hashlib
 import sys
 import traceback
@@ -134,7 +135,8 @@ def write_key(obj, name, V, relative_key=None):
 class KeyState:
     """Shape-key state during a bake: earlier cleanup keys muted (they must not be in the edit), a scratch
     key for the corrective solve (and a basis if the mesh had none). On exit everything is restored; a
-    basis created here is removed again if the bake failed; keys named in `written` stay unmuted."""
+    basis created here is removed again if the bake failed or wrote no key to the object; keys named in
+    `written` stay unmuted."""
 
     def __init__(self, obj, scratch):
         self.obj, self.scratch, self.tmp, self.written, self.active_name = obj, scratch, None, set(), None
@@ -164,12 +166,18 @@ class KeyState:
         md.tag_key_update(obj)
         return self
 
+    def clear_scratch(self, basis):
+        """The scratch key back to the basis (no offset): the next evaluation is the stack's own result."""
+        if self.tmp is not None:
+            md.set_key_co(self.tmp, basis)
+            md.tag_key_update(self.obj)
+
     def __exit__(self, exc_type, exc, tb):
         obj = self.obj
         if self.tmp is not None:
             obj.shape_key_remove(self.tmp)
             self.tmp = None
-        if exc_type is not None and self.created_basis:
+        if self.created_basis and (exc_type is not None or not self.written):
             obj.shape_key_clear()
         else:
             for name, mute in self.muted.items():
@@ -186,20 +194,49 @@ class KeyState:
 
 # ---- bake the pose-keeping cleanup -------------------------------------------------------------------------
 
+# A mesh the cleanup leaves within this fraction of its diagonal of the armature pose on every frame gets no key.
+UNCHANGED = 1e-9
 
-class SPINMOTOR_OT_bake_cleanup(MeshOperator, bpy.types.Operator):
-    """Pose-keeping conformal cleanup of the deformed (armature-posed) mesh against its rest shape, pins from
-    the bone weights or a vertex group, baked as a corrective shape key per frame"""
+
+def bake_targets(context):
+    """The mesh objects a bake works on: with an armature active, every mesh with an Armature modifier on it;
+    else every selected mesh, the active one first. AddonError if there is none or one is not in Object Mode."""
+    active = context.active_object
+    if active is not None and active.type == 'ARMATURE':
+        obs = sorted((o for o in context.scene.objects if o.type == 'MESH' and
+                      any(m.type == 'ARMATURE' and m.object == active for m in o.modifiers)), key=lambda o: o.name)
+        if not obs:
+            raise AddonError(f"{active.name}: no mesh object has an Armature modifier on this armature")
+    else:
+        obs = sorted((o for o in context.selected_objects if o.type == 'MESH'), key=lambda o: o.name)
+        if active is not None and active.type == 'MESH':
+            obs = [active] + [o for o in obs if o != active]
+        if not obs:
+            raise AddonError("spinmotor: select the mesh objects to bake (or make their armature active)")
+    for o in obs:
+        if o.mode != 'OBJECT':
+            raise AddonError(f"{o.name}: switch to Object Mode first (edit-mode changes are not in the mesh yet)")
+    return obs
+
+
+class SPINMOTOR_OT_bake_cleanup(bpy.types.Operator):
+    """Pose-keeping conformal cleanup of the deformed (armature-posed) meshes against their rest shape, baked as a
+    corrective shape key per frame: every selected mesh, or every mesh of the active armature; pins and the pose
+    attraction from the bone weights (the library's rig cleanup, every connected piece on its own), or a vertex group"""
     bl_idname = "spinmotor.bake_cleanup"
     bl_label = "Bake Conformal Cleanup"
     bl_options = {'REGISTER', 'UNDO'}
 
     threshold: FloatProperty(
-        name="Threshold", default=0.999, min=0.0, max=1.0, precision=4,
+        name="Threshold", default=0.999, min=0.5, max=1.0, precision=4,
         description="Pin the vertices whose dominant bone weight is at least this (the bones' rigid parts)")
+    per_bone_margin: BoolProperty(
+        name="Per-bone margin", default=True,
+        description="The library's default room for the joints: per bone, a quarter of the widest blend band of its "
+                    "joints (off: the Margin distance for every bone)")
     margin: FloatProperty(
         name="Margin", default=0.0, min=0.0, unit='LENGTH',
-        description="...and that lie farther than this from every blended vertex (object units): room for the joint")
+        description="With Per-bone margin off: pins lie farther than this from every blended vertex (object units)")
     pin_group: StringProperty(
         name="Pin group", default="",
         description="Pin this vertex group's vertices (weight > 0) instead of choosing pins from bone weights")
@@ -217,83 +254,131 @@ class SPINMOTOR_OT_bake_cleanup(MeshOperator, bpy.types.Operator):
         name="Keyframe", default=True,
         description="Keyframe each key's value: 1 on its frame, 0 on the frames before and after")
 
+    @classmethod
+    def poll(cls, context):
+        obj = context.active_object
+        ok = obj is not None and ((obj.type == 'MESH' and obj.mode == 'OBJECT') or
+                                  (obj.type == 'ARMATURE' and obj.mode in {'OBJECT', 'POSE'}))
+        if not ok:
+            cls.poll_message_set("Needs an active mesh in Object Mode, or the armature of the meshes to bake")
+        return ok
+
     def execute(self, context):
         return run_reported(self, lambda: self._run(context))
 
-    def _pins(self, sm, obj, V0):
-        """(pins, where they came from, attraction weights or None). The attraction comes from the bone
-        weights (rig defaults: library's pin_attraction_from_weights) whenever the object has them, also
-        with a pin group; without bone weights it is uniform."""
+    def _prepare(self, sm, obj):
+        """Everything bound once per object: the welded rest mesh, the pins and the cleanup (cached)."""
+        me = obj.data
+        if len(me.polygons) == 0:
+            raise AddonError(f"{obj.name}: the mesh has no faces")
+        V0 = md.rest_positions(obj)
+        F, tri_poly = md.triangles(me)
+        weld = md.Weld(V0, F, tri_poly)
+        V0w, Fw = weld.weld(V0), weld.F
         try:
             W, names = md.bone_weights(obj)
         except AddonError:
             if not self.pin_group:
                 raise
             W, names = None, []
-        attraction = None if W is None or self.pose_weight == 0 else sm.pin_attraction_from_weights(W, self.threshold)
-        if self.pin_group:
-            pins = md.group_members(obj, self.pin_group)
-            return pins, f"vertex group '{self.pin_group}'", attraction
-        pins = np.asarray(sm.pins_from_weights(V0, W, self.threshold, self.margin), dtype=np.int64)
-        return pins, f"weights >= {self.threshold:g} of {len(names)} bones, margin {self.margin:g}", attraction
+        Ww = None if W is None else weld.weld(W)  # the first vertex of each welded group
+        b = {"object": obj, "V0": V0, "F": F, "weld": weld, "W": W, "bone_names": names, "pieces": None}
+        try:
+            if self.pin_group:
+                # PinnedCleanup needs a consistently oriented manifold: the library's check names what is wrong.
+                md.check_mesh(sm, obj, V0w, Fw, weld.tri_polygon)
+                members = md.group_members(obj, self.pin_group)
+                if len(members) == 0:  # (the bone weights' attraction alone would hold it: surely a mistake)
+                    raise AddonError(f"{obj.name}: the pin group '{self.pin_group}' has no vertex with a weight > 0 "
+                                     "(no pinned vertex)")
+                pins_w = np.unique(weld.inverse[members])
+                attraction = (None if Ww is None or self.pose_weight == 0 else
+                              np.asarray(sm.pin_attraction_from_weights(Ww, self.threshold)))
+                source = f"vertex group '{self.pin_group}'"
+                fp = _fingerprint(V0w, Fw, pins_w, extra=(self.keep, self.max_iterations, self.pose_weight,
+                                                          None if attraction is None else hash(attraction.tobytes())))
+                cleaner = cached(obj, "cleanup", fp, lambda: sm.PinnedCleanup(
+                    V0w, Fw, pins_w, keep=self.keep, max_iterations=self.max_iterations, pose_weight=self.pose_weight,
+                    attraction=attraction, warm_start=True))
+            else:
+                bones = md.rest_bones(obj, names, V0, W)
+                options = {"threshold": self.threshold, "pose_weight": self.pose_weight, "keep": self.keep,
+                           "max_iterations": self.max_iterations, "warm_start": True}
+                if not self.per_bone_margin:
+                    options["margin"] = self.margin
+                fp = _fingerprint(V0w, Fw, Ww, extra=(bones, sorted(options.items())))
+                # warm_start: the frames are cleaned in order, each from the previous frame's correction.
+                cleaner = cached(obj, "rigcleanup", fp, lambda: sm.RigCleanup(V0w, Fw, Ww, bones=bones, **options))
+                pins_w = np.asarray(cleaner.pins, dtype=np.int64)
+                b["pieces"] = list(cleaner.pieces)
+                b["margins"] = np.asarray(cleaner.margins)
+                m = np.unique(b["margins"])
+                margin = (f"margin {self.margin:g}" if not self.per_bone_margin else
+                          f"per-bone margin {m[0]:.3g}" if len(m) == 1 else f"per-bone margins {m[0]:.3g}..{m[-1]:.3g}")
+                source = f"weights >= {self.threshold:g} of {len(names)} bones, {margin}"
+            cleaner.reset()  # a cached cleaner remembers the last frame of the previous bake
+        except sm.Error as e:
+            raise AddonError(f"{obj.name}: " + md.polygon_note(str(e), weld.tri_polygon)) from None
+        b.update({"cleaner": cleaner, "pins_welded": pins_w, "pins": weld.blender_indices(pins_w), "source": source,
+                  "diagonal": md.diagonal(V0), "frames": {}})
+        return b
+
+    def _clean_frame(self, sm, b, E):
+        """The cleanup of one frame's evaluated positions E (every Blender vertex) on the welded mesh."""
+        weld, V0 = b["weld"], b["V0"]
+        Ew = weld.weld(E)
+        try:
+            r = b["cleaner"].cleanup(Ew, full=True)
+        except sm.Error as e:
+            raise AddonError(f"{b['object'].name}: " + md.polygon_note(str(e), weld.tri_polygon)) from None
+        Vw = np.asarray(r["V"])
+        V = weld.unweld(Vw)
+        if "volume_ratio" in r:  # RigCleanup: over the pieces that keep their volume
+            ratio, edit_ratio, keep = r["volume_ratio"], r["edit_volume_ratio"], "volume"
+        else:
+            ratio, edit_ratio, keep = r["measure_ratio"], r["edit_measure_ratio"], r["keep"]
+        V0w = weld.weld(V0)
+        return {"V_edit": E, "V": V, "V_welded": Vw, "iterations": r["iterations"], "converged": r["converged"],
+                "measure_ratio": ratio, "edit_measure_ratio": edit_ratio, "keep": keep, "pin_error": r["pin_error"],
+                "change": float(np.abs(V - E).max()) / b["diagonal"],
+                "metrics_edit": sm.metrics(V0w, Ew, weld.F), "metrics": sm.metrics(V0w, Vw, weld.F)}
 
     def _run(self, context):
         sm = spinmotor_module(context)
-        obj = active_mesh(context)
+        obs = bake_targets(context)
         if self.frame_end < self.frame_start:
             raise AddonError(f"frame range {self.frame_start}..{self.frame_end} is empty")
         scene = context.scene
-        V0, F, tri_poly = rest_mesh(sm, obj)
-        pins, source, attraction = self._pins(sm, obj, V0)
-        extra = (self.keep, self.max_iterations, self.pose_weight,
-                 None if attraction is None else hash(np.asarray(attraction).tobytes()))
-        try:
-            # warm_start: the frames are cleaned in order, each from the previous frame's correction.
-            cleaner = cached(obj, "cleanup", _fingerprint(V0, F, pins, extra=extra),
-                             lambda: sm.PinnedCleanup(V0, F, pins, keep=self.keep, max_iterations=self.max_iterations,
-                                                      pose_weight=self.pose_weight, attraction=attraction,
-                                                      warm_start=True))
-            cleaner.reset()  # a cached cleaner remembers the last frame of the previous bake
-        except sm.Error as e:
-            raise AddonError(f"{obj.name} ({len(pins)} pins from {source}): "
-                             + md.polygon_note(str(e), tri_poly)) from None
-        dg = md.diagonal(V0)
+        bakes = [self._prepare(sm, obj) for obj in obs]
+        shape_key = self.output == 'SHAPE_KEY'
         frame0, subframe0 = scene.frame_current, scene.frame_subframe
-        frames = {}
-        written = []
+        written = []  # (object, key name, previous (co, value) or None), for the rollback
         try:
-            with KeyState(obj, scratch=self.output == 'SHAPE_KEY') as ks:
+            with contextlib.ExitStack() as stack:
+                states = [stack.enter_context(KeyState(b["object"], scratch=shape_key)) for b in bakes]
                 for f in range(self.frame_start, self.frame_end + 1):
                     scene.frame_set(f)
-                    E = md.evaluated_positions(context, obj)
-                    r = cleaner.cleanup(E, full=True)
-                    V = r["V"]
-                    res = {"V_edit": E, "V": V, "iterations": r["iterations"], "converged": r["converged"],
-                           "measure_ratio": r["measure_ratio"], "edit_measure_ratio": r["edit_measure_ratio"],
-                           "keep": r["keep"], "pin_error": r["pin_error"],
-                           "metrics_edit": sm.metrics(V0, E, F), "metrics": sm.metrics(V0, V, F)}
-                    if self.output == 'SHAPE_KEY':
-                        # Newton steps to float32 roundoff; an error above 1e-4 of the diagonal.
-                        res["key"], res["key_residual"] = md.corrective_key(context, obj, ks.tmp, V0, V,
-                                                                            1e-6 * dg, 1e-4 * dg)
-                    frames[f] = res
+                    for b, ks in zip(bakes, states):
+                        ks.clear_scratch(b["V0"])  # the previous frame's correction is not part of this edit
+                        res = self._clean_frame(sm, b, md.evaluated_positions(context, b["object"]))
+                        if shape_key and res["change"] > UNCHANGED:
+                            # Newton steps to float32 roundoff; an error above 1e-4 of the diagonal.
+                            dg = b["diagonal"]
+                            res["key"], res["key_residual"] = md.corrective_key(context, b["object"], ks.tmp, b["V0"],
+                                                                                res["V"], 1e-6 * dg, 1e-4 * dg)
+                        elif shape_key:  # the armature's own result: the key is the basis
+                            res["key"], res["key_residual"] = b["V0"].copy(), res["change"] * b["diagonal"]
+                        b["frames"][f] = res
+                for b in bakes:
+                    b["unchanged"] = all(r["change"] <= UNCHANGED for r in b["frames"].values())
                 # Everything computed: write (still inside, so that a failure here rolls back too).
-                if self.output == 'SHAPE_KEY':
+                if shape_key:
                     try:
-                        for f, res in frames.items():
-                            name = f"{CLEANUP_PREFIX}{f:04d}"
-                            old = key_by_name(obj, name)
-                            existed = None if old is None else (md._co(old.data, len(V0)), old.value)
-                            kb = write_key(obj, name, res["key"])
-                            written.append((kb.name, existed))
-                            ks.written.add(kb.name)
-                            if self.animate:
-                                for fr, val in ((f - 1, 0.0), (f, 1.0), (f + 1, 0.0)):
-                                    kb.value = val
-                                    kb.keyframe_insert("value", frame=fr)
-                            kb.value = 1.0
+                        for b, ks in zip(bakes, states):
+                            if not b["unchanged"]:
+                                self._write_keys(b, ks, written)
                     except Exception:
-                        for name, existed in written:  # new keys go, overwritten ones get their data back
+                        for obj, name, existed in written:  # new keys go, overwritten ones get their data back
                             kb = key_by_name(obj, name)
                             if kb is not None and existed is None:
                                 obj.shape_key_remove(kb)
@@ -301,59 +386,115 @@ class SPINMOTOR_OT_bake_cleanup(MeshOperator, bpy.types.Operator):
                                 md.set_key_co(kb, existed[0])
                                 kb.value = existed[1]
                         raise
-                    if written:
-                        ks.active_name = written[-1][0]
         finally:
             scene.frame_set(frame0, subframe=subframe0)
         if self.output == 'OBJECT':
-            self._new_objects(context, obj, frames)
-        LAST["bake_cleanup"] = {"object": obj.name, "V0": V0, "F": F, "pins": pins, "pin_source": source,
-                                "frames": frames, "keys": [n for n, _ in written]}
-        self._report(frames, pins, source)
+            made = []
+            try:
+                for b in bakes:
+                    made += self._new_objects(context, b["object"], b["frames"])
+            except Exception:
+                for ob in made:
+                    me = ob.data
+                    bpy.data.objects.remove(ob)
+                    bpy.data.meshes.remove(me)
+                raise
+        results = {}
+        for b in bakes:
+            obj = b["object"]
+            results[obj.name] = {
+                "object": obj.name, "V0": b["V0"], "F": b["F"], "weld": b["weld"], "pins": b["pins"],
+                "pins_welded": b["pins_welded"], "pin_source": b["source"], "pieces": b["pieces"],
+                "piece_counts": piece_counts(b["pieces"]), "margins": b.get("margins"), "frames": b["frames"],
+                "unchanged": b["unchanged"], "keys": [n for o, n, _ in written if o == obj]}
+        LAST["bake_cleanup"] = dict(results[obs[0].name], objects=results)
+        self._report(bakes, results)
         return {'FINISHED'}
+
+    def _write_keys(self, b, ks, written):
+        obj, n = b["object"], len(b["V0"])
+        for f, res in b["frames"].items():
+            name = f"{CLEANUP_PREFIX}{f:04d}"
+            old = key_by_name(obj, name)
+            existed = None if old is None else (md._co(old.data, n), old.value)
+            kb = write_key(obj, name, res["key"])
+            written.append((obj, kb.name, existed))
+            ks.written.add(kb.name)
+            if self.animate:
+                for fr, val in ((f - 1, 0.0), (f, 1.0), (f + 1, 0.0)):
+                    kb.value = val
+                    kb.keyframe_insert("value", frame=fr)
+            kb.value = 1.0
+            ks.active_name = kb.name
 
     def _new_objects(self, context, obj, frames):
         dg = context.evaluated_depsgraph_get()
         made = []
-        try:
-            for f, res in frames.items():
-                me = bpy.data.meshes.new_from_object(obj.evaluated_get(dg))
-                me.name = f"{obj.name}_cleanup_{f:04d}"
-                me.vertices.foreach_set("co", np.ascontiguousarray(res["V"], np.float32).ravel())
-                me.update()
-                ob = bpy.data.objects.new(me.name, me)
-                ob.matrix_world = obj.matrix_world.copy()
-                (obj.users_collection[0] if obj.users_collection else context.scene.collection).objects.link(ob)
-                made.append(ob)
-                res["object"] = ob.name
-        except Exception:
-            for ob in made:
-                me = ob.data
-                bpy.data.objects.remove(ob)
-                bpy.data.meshes.remove(me)
-            raise
+        for f, res in frames.items():
+            me = bpy.data.meshes.new_from_object(obj.evaluated_get(dg))
+            me.name = f"{obj.name}_cleanup_{f:04d}"
+            me.vertices.foreach_set("co", np.ascontiguousarray(res["V"], np.float32).ravel())
+            me.update()
+            ob = bpy.data.objects.new(me.name, me)
+            ob.matrix_world = obj.matrix_world.copy()
+            (obj.users_collection[0] if obj.users_collection else context.scene.collection).objects.link(ob)
+            made.append(ob)
+            res["object"] = ob.name
+        return made
 
-    def _report(self, frames, pins, source):
-        lines = []
-        for f, r in frames.items():
-            me, mc = r["metrics_edit"], r["metrics"]
-            lines.append(f"frame {f}: Q_mean {me['q_mean']:.4f} -> {mc['q_mean']:.4f}, {r['keep']} ratio "
-                         f"{r['edit_measure_ratio']:.4f} -> {r['measure_ratio']:.4f}, {r['iterations']} iterations"
-                         + ("" if r["converged"] else " (not converged)"))
-        for line in lines:
+    def _report(self, bakes, results):
+        """Per object: the pieces by status, the pins, Q_mean and the measure ratio before -> after (of the frame
+        the armature distorts most), the frames, and the keys written (or why none)."""
+        heads = []
+        for b in bakes:
+            obj, frames, R = b["object"], b["frames"], results[b["object"].name]
+            for f, r in frames.items():
+                print(f"spinmotor cleanup: {obj.name} frame {f}: Q_mean {r['metrics_edit']['q_mean']:.4f} -> "
+                      f"{r['metrics']['q_mean']:.4f}, {r['keep']} ratio {r['edit_measure_ratio']:.4f} -> "
+                      f"{r['measure_ratio']:.4f}, {r['iterations']} iterations, change {r['change']:.2e} of the "
+                      "diagonal" + ("" if r["converged"] else " (not converged)"))
+            counts = R["piece_counts"]
+            pieces = ("pieces " + " / ".join(f"{counts.get(st, 0)} {st}" for st in PIECE_STATES) + ", "
+                      if counts else "")
+            fw = max(frames, key=lambda f: frames[f]["metrics_edit"]["q_mean"])
+            r = frames[fw]
+            span = f"frame {fw}" if len(frames) == 1 else f"frames {min(frames)}..{max(frames)}, worst {fw}"
+            weld = b["weld"]
+            welded = f" ({weld.n} vertices welded to {weld.k} positions)" if weld.k < weld.n else ""
+            line = (f"{obj.name}{welded}: {pieces}{len(b['pins'])} pins ({b['source']}); {span}: Q_mean "
+                    f"{r['metrics_edit']['q_mean']:.4f} -> {r['metrics']['q_mean']:.4f}, {r['keep']} ratio "
+                    f"{r['edit_measure_ratio']:.4f} -> {r['measure_ratio']:.4f}")
+            if b["unchanged"]:
+                line += (f"; unchanged (within {UNCHANGED:g} of the diagonal of the armature pose on every frame): "
+                         + ("no key written" if self.output == 'SHAPE_KEY' else "objects written as posed"))
+            elif self.output == 'SHAPE_KEY':
+                line += f"; keys {CLEANUP_PREFIX}{min(frames):04d}..{max(frames):04d}"
             print("spinmotor cleanup:", line)
-        head = f"spinmotor cleanup, {len(pins)} pins ({source}): "
-        self.report({'INFO'}, head + (lines[0] if len(lines) == 1 else f"{len(lines)} frames; last " + lines[-1]))
+            heads.append(line)
+        self.report({'INFO'}, "spinmotor cleanup: " + " | ".join(heads))
+
+
+PIECE_STATES = ("cleaned", "rigid", "pinned", "unanchored")
+
+
+def piece_counts(pieces):
+    """{status: count} of RigCleanup's pieces ({} for a pin-group bake)."""
+    counts = {}
+    for p in pieces or []:
+        counts[p["status"]] = counts.get(p["status"], 0) + 1
+    return counts
 
 
 class SPINMOTOR_OT_pins_to_group(MeshOperator, bpy.types.Operator):
-    """Write the pins the cleanup would use (from the bone weights) to the vertex group 'spinmotor_pins', to
-    inspect or edit them and use them as the pin group"""
+    """Write the pins the cleanup would use (from the bone weights, the library's rig cleanup) to the vertex group
+    'spinmotor_pins', to inspect or edit them and use them as the pin group"""
     bl_idname = "spinmotor.pins_to_group"
     bl_label = "Pins to Vertex Group"
     bl_options = {'REGISTER', 'UNDO'}
 
-    threshold: FloatProperty(name="Threshold", default=0.999, min=0.0, max=1.0, precision=4)
+    threshold: FloatProperty(name="Threshold", default=0.999, min=0.5, max=1.0, precision=4)
+    per_bone_margin: BoolProperty(name="Per-bone margin", default=True,
+                                  description="The library's default room for the joints (off: the Margin distance)")
     margin: FloatProperty(name="Margin", default=0.0, min=0.0, unit='LENGTH')
 
     def execute(self, context):
@@ -361,8 +502,17 @@ class SPINMOTOR_OT_pins_to_group(MeshOperator, bpy.types.Operator):
             sm = spinmotor_module(context)
             obj = active_mesh(context)
             V0 = md.rest_positions(obj)
-            W, _ = md.bone_weights(obj)
-            pins = sm.pins_from_weights(V0, W, self.threshold, self.margin)
+            F, tri_poly = md.triangles(obj.data)
+            weld = md.Weld(V0, F, tri_poly)
+            W, names = md.bone_weights(obj)
+            options = {"threshold": self.threshold} if self.per_bone_margin else {"threshold": self.threshold,
+                                                                                    "margin": self.margin}
+            try:
+                rc = sm.RigCleanup(weld.weld(V0), weld.F, weld.weld(W), bones=md.rest_bones(obj, names, V0, W),
+                                   **options)
+            except sm.Error as e:
+                raise AddonError(f"{obj.name}: " + md.polygon_note(str(e), weld.tri_polygon)) from None
+            pins = weld.blender_indices(rc.pins)
             vg = obj.vertex_groups.get("spinmotor_pins")
             if vg is not None:
                 obj.vertex_groups.remove(vg)

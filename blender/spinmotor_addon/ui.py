@@ -1,7 +1,7 @@
 """Preferences (where the spinmotor module is), the per-scene panel settings and the sidebar panel
 (3D Viewport > Sidebar > Spinmotor)."""
 import bpy
-from bpy.props import EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
 from . import loader, ops
 
@@ -25,10 +25,13 @@ class SpinmotorPreferences(bpy.types.AddonPreferences):
 class SpinmotorSettings(bpy.types.PropertyGroup):
     pin_group: StringProperty(name="Pin group", default="",
                               description="Pin this vertex group's vertices instead of choosing pins from bone weights")
-    threshold: FloatProperty(name="Threshold", default=0.999, min=0.0, max=1.0, precision=4,
+    threshold: FloatProperty(name="Threshold", default=0.999, min=0.5, max=1.0, precision=4,
                              description="Pin vertices whose dominant bone weight is at least this")
+    per_bone_margin: BoolProperty(name="Per-bone margin", default=True,
+                                  description="The library's default room for the joints: per bone, a quarter of the "
+                                              "widest blend band of its joints (off: the Margin distance)")
     margin: FloatProperty(name="Margin", default=0.0, min=0.0, unit='LENGTH',
-                          description="...farther than this from every blended vertex")
+                          description="With Per-bone margin off: pins lie farther than this from every blended vertex")
     pose_weight: FloatProperty(name="Pose weight", default=10.0, min=0.0,
                                description="Hold the soft parts near the armature pose (0 = the pins only)")
     frame_start: IntProperty(name="Start", default=1)
@@ -63,9 +66,11 @@ class SPINMOTOR_PT_panel(bpy.types.Panel):
         if obj is not None and obj.type == 'MESH':
             box.prop_search(s, "pin_group", obj, "vertex_groups")
         if not s.pin_group:
+            box.prop(s, "threshold")
             row = box.row(align=True)
-            row.prop(s, "threshold")
-            row.prop(s, "margin")
+            row.prop(s, "per_bone_margin")
+            if not s.per_bone_margin:
+                row.prop(s, "margin")
         box.prop(s, "pose_weight")
         row = box.row(align=True)
         row.prop(s, "frame_start")
@@ -73,11 +78,12 @@ class SPINMOTOR_PT_panel(bpy.types.Panel):
         box.prop(s, "keep")
         box.prop(s, "output")
         op = box.operator(ops.SPINMOTOR_OT_bake_cleanup.bl_idname, icon='SHAPEKEY_DATA')
-        for name in ("pin_group", "threshold", "margin", "pose_weight", "frame_start", "frame_end", "keep", "output"):
+        for name in ("pin_group", "threshold", "per_bone_margin", "margin", "pose_weight", "frame_start", "frame_end",
+                     "keep", "output"):
             setattr(op, name, getattr(s, name))
         if not s.pin_group:
             op = box.operator(ops.SPINMOTOR_OT_pins_to_group.bl_idname, icon='GROUP_VERTEX')
-            op.threshold, op.margin = s.threshold, s.margin
+            op.threshold, op.per_bone_margin, op.margin = s.threshold, s.per_bone_margin, s.margin
 
         box = layout.box()
         box.label(text="Sculpted shape key")

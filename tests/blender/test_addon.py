@@ -13,6 +13,12 @@ test's figures (pins to 1e-9 of the diagonal, Q_mean <= 1.06 and below the armat
 volume ratio >= 0.93 and equal to the library's measure ratio), against a direct call of the module on the
 same arrays (1e-12) and through Blender's float32 storage (the corrective key reproduces the cleanup
 through the armature). Bad inputs give an error report and leave the object as it was.
+
+The add-on cleans through spinmotor.RigCleanup on the mesh welded by rest position: a mesh of loose triangles
+(split seams, as the glTF importer leaves the Fox) gives the welded mesh's result at every copy; a bake of two
+meshes on one armature writes keys on the deformed one and none on a rigid one (and nothing on either when one
+fails); the per-bone default margin (the armature's rest bones in the mesh's space) gives RigCleanup's own pins;
+each frame's edit is the armature's pose at that frame, without the previous frame's correction.
 """
 import math
 import os
@@ -176,22 +182,35 @@ def mesh_object(name, V, F):
     return link(bpy.data.objects.new(name, me))
 
 
-def make_arm(sm, name, rings=93, sides=64):
+ARM_BONES = [("upper", None, (0.0, 0.0, -1.0), (0.0, 0.0, 3.0)), ("lower", 0, (0.0, 0.0, 3.0), (0.0, 0.0, 7.0))]
+
+
+def make_arm(sm, name, rings=93, sides=64, split=False, turned=False):
+    """The two-bone arm: the capsule weighted by smoothstep_weights, an Armature modifier on a two-bone rig whose
+    bones are ARM_BONES in the mesh's space. split=True gives every triangle its own three vertices (as an
+    importer leaves a mesh whose corners all have their own texture coordinates: the Fox arrives so): returns the
+    capsule's V, F all the same, the copies in order (vertex 3f + c is corner c of triangle f). turned=True turns
+    the armature object 90 degrees about x and its bones back (along its local y), so that its bones' head_local
+    and tail_local differ from the mesh-space bones."""
     V, F = sm.capsule(1.0, 6.0, rings, sides)
-    ob = mesh_object(name, V, F)
-    W = smoothstep_weights(V)
+    Vm, Fm = (V[F].reshape(-1, 3), np.arange(3 * len(F)).reshape(-1, 3)) if split else (V, F)
+    ob = mesh_object(name, Vm, Fm)
+    W = smoothstep_weights(Vm)
     for c, bone in enumerate(("upper", "lower")):
         vg = ob.vertex_groups.new(name=bone)
         for i in np.flatnonzero(W[:, c] > 0):
             vg.add([int(i)], float(W[i, c]), 'REPLACE')
     arm = bpy.data.armatures.new(name + "_rig")
     rig = link(bpy.data.objects.new(name + "_rig", arm))
+    local = (lambda p: (p[0], p[2], -p[1])) if turned else (lambda p: p)  # rot_x(-90): mesh space -> armature's
+    if turned:
+        rig.rotation_euler = (math.radians(90), 0, 0)
     activate(rig)
     bpy.ops.object.mode_set(mode='EDIT')
     up = arm.edit_bones.new("upper")
-    up.head, up.tail, up.roll = (0, 0, -1), (0, 0, 3), 0.0
+    up.head, up.tail, up.roll = local(ARM_BONES[0][2]), local(ARM_BONES[0][3]), 0.0
     lo = arm.edit_bones.new("lower")
-    lo.head, lo.tail, lo.roll = (0, 0, 3), (0, 0, 7), 0.0
+    lo.head, lo.tail, lo.roll = local(ARM_BONES[1][2]), local(ARM_BONES[1][3]), 0.0
     lo.parent, lo.use_connect = up, True
     bpy.ops.object.mode_set(mode='OBJECT')
     mod = ob.modifiers.new("Armature", 'ARMATURE')
@@ -259,7 +278,7 @@ def test_bake_cleanup(sm, addon):
     assert lbs_err < 1e-6, lbs_err
 
     before = snapshot(ob)
-    res = bpy.ops.spinmotor.bake_cleanup(threshold=0.999, margin=0.5, frame_start=1, frame_end=1)
+    res = bpy.ops.spinmotor.bake_cleanup(threshold=0.999, per_bone_margin=False, margin=0.5, frame_start=1, frame_end=1)
     assert res == {'FINISHED'}, res
     after = snapshot(ob)  # the mesh, its groups and the frame as they were; only the key is new
     assert all(np.array_equal(before[k], after[k]) for k in ("co", "groups", "frame", "objects", "attributes"))
@@ -281,6 +300,13 @@ def test_bake_cleanup(sm, addon):
     d = diag(E)
     dev = np.abs(direct["V"] - V).max() / d
     assert dev <= 1e-12, f"add-on vs direct call: {dev:.3e}"
+    # ...which is what the library's rig cleanup (the add-on's door) does on one piece with these pins.
+    W = addon.meshdata.bone_weights(ob)[0]
+    rc = sm.RigCleanup(V0, F, W, bones=ARM_BONES, threshold=float(np.float32(0.999)), margin=0.5)
+    assert np.array_equal(np.asarray(rc.pins), np.sort(pins))
+    dev_rc = np.abs(rc.cleanup(E) - V).max() / d
+    assert dev_rc <= 1e-12, f"add-on vs RigCleanup: {dev_rc:.3e}"
+    assert L["piece_counts"] == {"cleaned": 1} and not L["unchanged"], (L["piece_counts"], L["unchanged"])
     # The attraction holds the pose: nearer the armature's result than the pins-only cleanup.
     pins_only = sm.PinnedCleanup(V0, F, pins).cleanup(E)
     assert np.linalg.norm(V - E) < 0.8 * np.linalg.norm(pins_only - E), (np.linalg.norm(V - E),
@@ -293,7 +319,7 @@ def test_bake_cleanup(sm, addon):
     ve, vc = volume(E, F) / vol0, volume(V, F) / vol0
     print(f"  bend 90: LBS Q_mean {q_lbs:.4f} Q_max {qmax_lbs:.4g} vol {ve:.4f} | cleanup Q_mean {q_c:.4f} "
           f"Q_max {qmax_c:.4f} vol {vc:.4f} | pins {len(pins)}, pin error {pin_err:.1e}, "
-          f"{r['iterations']} iterations; add-on vs direct {dev:.1e}")
+          f"{r['iterations']} iterations; add-on vs direct PinnedCleanup {dev:.1e}, RigCleanup {dev_rc:.1e}")
     assert collapsed == 0
     assert q_c < q_lbs and q_c <= 1.06 and qmax_c <= 1.5, (q_c, q_lbs, qmax_c)
     assert vc >= 0.93, vc
@@ -323,13 +349,13 @@ def test_bake_cleanup(sm, addon):
     bpy.context.scene.frame_set(1)
 
     # Re-bake the same frame: the key is overwritten (no duplicate), the earlier bake is not part of the edit.
-    bpy.ops.spinmotor.bake_cleanup(threshold=0.999, margin=0.5, frame_start=1, frame_end=1)
+    bpy.ops.spinmotor.bake_cleanup(threshold=0.999, per_bone_margin=False, margin=0.5, frame_start=1, frame_end=1)
     assert [kb.name for kb in key.key_blocks] == names
     assert np.array_equal(addon.ops.LAST["bake_cleanup"]["frames"][1]["V_edit"], E)
     assert np.abs(addon.ops.LAST["bake_cleanup"]["frames"][1]["V"] - V).max() <= 1e-12 * d
 
     # The pins as a vertex group, then used as the pin group: the same cleanup.
-    assert bpy.ops.spinmotor.pins_to_group(threshold=0.999, margin=0.5) == {'FINISHED'}
+    assert bpy.ops.spinmotor.pins_to_group(threshold=0.999, per_bone_margin=False, margin=0.5) == {'FINISHED'}
     assert np.array_equal(addon.meshdata.group_members(ob, "spinmotor_pins"), np.sort(pins))
     bpy.ops.spinmotor.bake_cleanup(pin_group="spinmotor_pins")
     assert np.abs(addon.ops.LAST["bake_cleanup"]["frames"][1]["V"] - V).max() <= 1e-12 * d
@@ -367,13 +393,25 @@ def test_frame_range(sm, addon):
                  frame_end=2)
     assert ob.data.shape_keys is None
     ob.modifiers.remove(sub)
-    bpy.ops.spinmotor.bake_cleanup(threshold=0.999, margin=0.5, frame_start=1, frame_end=2)
+    bpy.ops.spinmotor.bake_cleanup(threshold=0.999, per_bone_margin=False, margin=0.5, frame_start=1, frame_end=2)
     L = addon.ops.LAST["bake_cleanup"]
     V0 = read_co(ob.data.vertices, len(Vc))
     # The reference: the rig defaults (attraction from the bone weights, the add-on's float32 threshold) and
     # the warm start, the frames cleaned in order as the add-on does.
     a = sm.pin_attraction_from_weights(addon.meshdata.bone_weights(ob)[0], float(np.float32(0.999)))
     ref_cleanup = sm.PinnedCleanup(V0, F, L["pins"], pose_weight=10.0, attraction=a, warm_start=True)
+    # Each frame's edit is the armature's own pose at that frame (the keys muted): not the previous frame's
+    # corrective key on top of it (the bake's scratch key is cleared between frames).
+    keys = ob.data.shape_keys.key_blocks
+    for kb in keys[1:]:
+        kb.mute = True
+    for f in (1, 2):
+        bpy.context.scene.frame_set(f)
+        edit_err = np.abs(L["frames"][f]["V_edit"] - evaluated(ob)).max() / diag(Vc)
+        print(f"  frame {f}: the bake's edit vs the armature pose without keys {edit_err:.1e}")
+        assert edit_err <= 1e-12, (f, edit_err)
+    for kb in keys[1:]:
+        kb.mute = False
     for f in (1, 2):
         bpy.context.scene.frame_set(f)
         Vf = L["frames"][f]["V"]
@@ -390,7 +428,8 @@ def test_frame_range(sm, addon):
     # Output as new objects.
     nobj = len(bpy.data.objects)
     activate(ob)
-    bpy.ops.spinmotor.bake_cleanup(threshold=0.999, margin=0.5, frame_start=2, frame_end=2, output='OBJECT')
+    bpy.ops.spinmotor.bake_cleanup(threshold=0.999, per_bone_margin=False, margin=0.5, frame_start=2, frame_end=2,
+                                   output='OBJECT')
     assert len(bpy.data.objects) == nobj + 1
     new = bpy.data.objects["arm2_cleanup_0002"]
     got = read_co(new.data.vertices, len(Vc))
@@ -398,7 +437,7 @@ def test_frame_range(sm, addon):
     bpy.context.scene.frame_set(1)
 
 
-def test_bad_meshes(sm):
+def test_bad_meshes(sm, addon):
     # Non-manifold: a fin (three triangles on one edge), pinned by a group: the library's check message.
     V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1.0]])
     ob = mesh_object("fin", V, np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]]))
@@ -411,20 +450,28 @@ def test_bad_meshes(sm):
     ob2 = mesh_object("ball", V, F)
     activate(ob2)
     expect_error(bpy.ops.spinmotor.bake_cleanup, "no Armature modifier", ob2)
-    # Quads are triangulated by Blender (loop triangles): a cube with a pinned face bakes.
+    # Quads are triangulated by Blender (loop triangles): a cube with a pinned face bakes. Undeformed, the cleanup
+    # leaves it as it is: no key (not even a basis); twisted by a modifier, it gets its key.
     bpy.ops.mesh.primitive_cube_add(size=2)
     cube = bpy.context.active_object
     vg = cube.vertex_groups.new(name="top")
     vg.add([v.index for v in cube.data.vertices if v.co.z > 0], 1.0, 'REPLACE')
     assert bpy.ops.spinmotor.bake_cleanup(pin_group="top") == {'FINISHED'}
-    assert cube.data.shape_keys.key_blocks[-1].name == "spinmotor_cleanup_0001"
-    # A component without a pin: the library names it; nothing written.
+    assert cube.data.shape_keys is None, [kb.name for kb in cube.data.shape_keys.key_blocks]
+    L = addon.ops.LAST["bake_cleanup"]
+    assert L["unchanged"] and L["keys"] == [] and L["frames"][1]["change"] <= 1e-9, L["frames"][1]["change"]
+    twist = cube.modifiers.new("Twist", 'SIMPLE_DEFORM')
+    twist.deform_method, twist.angle, twist.deform_axis = 'TWIST', math.radians(40), 'Z'
+    assert bpy.ops.spinmotor.bake_cleanup(pin_group="top") == {'FINISHED'}
+    assert [kb.name for kb in cube.data.shape_keys.key_blocks] == ["Basis", "spinmotor_cleanup_0001"]
+    # A component without a pin (and no attraction): the library names it; nothing written.
     V1, F1 = sm.icosphere(1)
     both = mesh_object("two", np.vstack([V1, V1 + [3, 0, 0]]), np.vstack([F1, F1 + len(V1)]))
     vg = both.vertex_groups.new(name="pins")
     vg.add([0, 1, 2], 1.0, 'REPLACE')
     activate(both)
-    expect_error(bpy.ops.spinmotor.bake_cleanup, "has no pinned vertex", both, pin_group="pins")
+    # (with a pose weight, the uniform attraction of a mesh without bone weights anchors it: the pins alone here)
+    expect_error(bpy.ops.spinmotor.bake_cleanup, "has no pinned vertex", both, pin_group="pins", pose_weight=0.0)
     # Edit mode: the operator is not available (poll), nothing happens.
     bpy.ops.object.mode_set(mode='EDIT')
     try:
@@ -550,6 +597,116 @@ def test_handles(sm, addon):
     bpy.context.view_layer.update()
     activate(ob)
     expect_error(bpy.ops.spinmotor.pose_handles, "handle 'handled.tip'", ob)
+
+
+def test_split_seams(sm, addon):
+    """A mesh whose triangles are all loose (every corner its own vertex, as the Fox arrives from the glTF
+    importer: 1728 vertices for 290 positions) bakes, and gives the welded mesh's result at every copy: the
+    add-on welds equal rest positions before the cleanup and maps the result back."""
+    t0 = time.time()
+    ob_w, rig_w, Vc, Fc = make_arm(sm, "armw", 40, 24)
+    pose_elbow(rig_w, 90)
+    assert bpy.ops.spinmotor.bake_cleanup() == {'FINISHED'}
+    Lw = addon.ops.LAST["bake_cleanup"]
+    ob_s, rig_s, _, _ = make_arm(sm, "arms", 40, 24, split=True)
+    pose_elbow(rig_s, 90)
+    n_split = len(ob_s.data.vertices)
+    assert n_split == 3 * len(Fc)
+    assert bpy.ops.spinmotor.bake_cleanup() == {'FINISHED'}
+    Ls = addon.ops.LAST["bake_cleanup"]
+    assert Ls["object"] == "arms" and Ls["weld"].k == len(Vc), (Ls["weld"].k, len(Vc))
+    assert Ls["piece_counts"] == {"cleaned": 1}, Ls["piece_counts"]
+    assert len(Ls["pins_welded"]) == len(Lw["pins"]) and len(Ls["pins"]) == int(np.isin(Fc.ravel(), Lw["pins"]).sum())
+    Vw, Vs = Lw["frames"][1]["V"], Ls["frames"][1]["V"]
+    d = diag(Vw)
+    dev = np.abs(Vs - Vw[Fc.ravel()]).max() / d  # copy 3f + c is the welded mesh's vertex Fc[f, c]
+    key_err = np.abs(evaluated(ob_s) - Vs).max() / d
+    q_w, q_s = Lw["frames"][1]["metrics"]["q_mean"], Ls["frames"][1]["metrics"]["q_mean"]
+    # Without the weld, each loose triangle would be a piece of its own.
+    W = addon.meshdata.bone_weights(ob_s)[0]
+    loose = sm.RigCleanup(read_co(ob_s.data.vertices, n_split), loop_triangles(ob_s.data), W, bones=ARM_BONES)
+    counts = {}
+    for p in loose.pieces:
+        counts[p["status"]] = counts.get(p["status"], 0) + 1
+    print(f"  split seams: {n_split} loose vertices welded to {Ls['weld'].k}; vs the welded mesh's bake {dev:.1e} of "
+          f"the diagonal, Q_mean {q_s:.4f} (welded {q_w:.4f}); key through the armature {key_err:.1e}; unwelded "
+          f"the library would see {len(loose.pieces)} pieces {counts} ({time.time() - t0:.1f} s)")
+    assert dev <= 1e-9, dev
+    assert abs(q_s - q_w) <= 1e-9 and q_s < Lw["frames"][1]["metrics_edit"]["q_mean"]
+    assert key_err <= 2e-6, key_err
+    assert len(loose.pieces) == len(Fc)
+
+
+def test_multi_object(sm, addon):
+    """Two meshes on one armature: the deformed arm gets its keys, a rigid helmet (every vertex on one bone) none.
+    The armature object is turned and its bones turned back, so the rest bones the add-on passes to the library
+    (per-bone default margin) must be converted to the mesh's space; the pins equal spinmotor.RigCleanup's on the
+    same arrays with the mesh-space bones, and differ from those of bones taken in the armature's own axes."""
+    t0 = time.time()
+    ob, rig, Vc, Fc = make_arm(sm, "arm3", 40, 24, turned=True)
+    Vh, Fh = sm.icosphere(2)
+    helmet = mesh_object("helmet", 0.8 * Vh + np.array([0.0, 0.0, 7.0]), Fh)
+    helmet.vertex_groups.new(name="lower").add(list(range(len(Vh))), 1.0, 'REPLACE')
+    mod = helmet.modifiers.new("Armature", 'ARMATURE')
+    mod.object = rig
+    pose_elbow(rig, 60)
+    # The per-bone margin default is the library's: the same pins as a direct RigCleanup on the same arrays.
+    V0 = read_co(ob.data.vertices, len(Vc))
+    F = loop_triangles(ob.data)
+    W = addon.meshdata.bone_weights(ob)[0]
+    t32 = float(np.float32(0.999))
+    ref = sm.RigCleanup(V0, F, W, bones=ARM_BONES, threshold=t32, warm_start=True)
+    axes = [(n, p, (h[0], h[2], -h[1]), (t[0], t[2], -t[1])) for n, p, h, t in ARM_BONES]  # armature-space bones
+    wrong = sm.RigCleanup(V0, F, W, bones=axes, threshold=t32)
+    assert not np.array_equal(np.asarray(ref.pins), np.asarray(wrong.pins)), "the test cannot see the conversion"
+    activate(ob)
+    assert bpy.ops.spinmotor.pins_to_group() == {'FINISHED'}
+    assert np.array_equal(addon.meshdata.group_members(ob, "spinmotor_pins"), np.asarray(ref.pins))
+    ob.vertex_groups.remove(ob.vertex_groups["spinmotor_pins"])
+    # Both selected (the arm active): one bake for both.
+    activate(ob)
+    helmet.select_set(True)
+    before_h = snapshot(helmet)
+    assert bpy.ops.spinmotor.bake_cleanup() == {'FINISHED'}
+    L = addon.ops.LAST["bake_cleanup"]
+    assert sorted(L["objects"]) == ["arm3", "helmet"], sorted(L["objects"])
+    La, Lh = L["objects"]["arm3"], L["objects"]["helmet"]
+    assert np.array_equal(La["pins"], np.asarray(ref.pins)), (len(La["pins"]), len(ref.pins))
+    # (float32 bones turned by float32 matrices: the axes agree to ~1e-7)
+    margin_dev = np.abs(La["margins"] - np.asarray(ref.margins)).max()
+    assert margin_dev <= 1e-6 * np.max(ref.margins), (La["margins"], ref.margins)
+    E = La["frames"][1]["V_edit"]
+    dev = np.abs(ref.cleanup(E) - La["frames"][1]["V"]).max() / diag(E)
+    assert dev <= 1e-12, dev
+    assert [kb.name for kb in ob.data.shape_keys.key_blocks] == ["Basis", "spinmotor_cleanup_0001"]
+    assert La["keys"] == ["spinmotor_cleanup_0001"] and not La["unchanged"]
+    # The helmet: one piece on one bone, left as the armature put it; no key, no basis, nothing else changed.
+    Eh = evaluated(helmet)
+    change = np.abs(Lh["frames"][1]["V"] - Eh).max() / diag(Eh)
+    assert Lh["unchanged"] and Lh["keys"] == [] and helmet.data.shape_keys is None
+    assert sum(Lh["piece_counts"].values()) == 1 and set(Lh["piece_counts"]) <= {"rigid", "pinned"}, Lh["piece_counts"]
+    assert change <= 1e-9, change
+    assert same_snapshot(before_h, snapshot(helmet))
+    key_err = np.abs(evaluated(ob) - La["frames"][1]["V"]).max() / diag(E)
+    assert key_err <= 2e-6, key_err
+    print(f"  multi-object: arm3 {La['piece_counts']} {len(La['pins'])} pins (per-bone margin "
+          f"{La['margins'][0]:.4f}; bones in the armature's axes would give {len(wrong.pins)}), vs direct RigCleanup "
+          f"{dev:.1e}, key {key_err:.1e}; helmet {Lh['piece_counts']}, change {change:.1e}: no key")
+    # The armature active (nothing selected): every mesh with an Armature modifier on it; the key is overwritten.
+    activate(rig)
+    rig.select_set(False)
+    assert bpy.ops.spinmotor.bake_cleanup() == {'FINISHED'}
+    L2 = addon.ops.LAST["bake_cleanup"]
+    assert sorted(L2["objects"]) == ["arm3", "helmet"]
+    assert np.abs(L2["objects"]["arm3"]["frames"][1]["V"] - La["frames"][1]["V"]).max() <= 1e-12 * diag(E)
+    assert [kb.name for kb in ob.data.shape_keys.key_blocks] == ["Basis", "spinmotor_cleanup_0001"]
+    assert helmet.data.shape_keys is None
+    # One object fails (a Subdivision modifier on the helmet): nothing is written on the other either.
+    helmet.modifiers.new("Subdivision", 'SUBSURF')
+    expect_error(bpy.ops.spinmotor.bake_cleanup, "vertex count", ob, frame_start=2, frame_end=2)
+    assert helmet.data.shape_keys is None
+    print(f"  multi-object test {time.time() - t0:.1f} s")
+
 
 
 class FakeLayout:
@@ -679,7 +836,11 @@ def main():
     print("test_frame_range")
     test_frame_range(sm, addon)
     print("test_bad_meshes")
-    test_bad_meshes(sm)
+    test_bad_meshes(sm, addon)
+    print("test_split_seams")
+    test_split_seams(sm, addon)
+    print("test_multi_object")
+    test_multi_object(sm, addon)
     print("test_snap")
     test_snap(sm, addon)
     print("test_q_colors")
