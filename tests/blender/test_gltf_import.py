@@ -373,7 +373,7 @@ class Match:
             idx, dist = nearest(kdtree(rest_sm[lo:lo + n]), rest_blender[ob.name])
             worst = max(worst, float(dist.max()))
             hit = np.unique(idx)
-            assert len(hit) == n, f"{imp.path}: {ob.name}: {n - len(hit)} of {n} spinmotor vertices have no Blender vertex"
+            assert len(hit) == n, f"{imp.path}: {ob.name}: {n - len(hit)} of {n} spinmotor vertices unmatched"
             self.index[ob.name] = idx + lo
         assert worst <= tol_abs, f"{imp.path}: rest match {worst:.3g} > {tol_abs:.3g}"
         self.rest_distance = worst
