@@ -1,15 +1,15 @@
-// glTF rigs (mesh/gltf.hpp, deform/rig_skin.hpp), 2 cores: the per-frame cost of posing a rig's
-// animation — the skinning transforms at time t (rig_pose_motors: node hierarchy, animation sampling,
-// S_j = W_mesh⁻¹ W_j IBM_j as motors) plus SkinDeformer::pose, bound once — for every blend, next to a
-// plain Eigen LBS baseline measured in the same run on the same mesh: skinning_matrices(t) and, per
-// vertex, Σ w_j (L_j v + t_j) over the same ≤ 4 influences with Eigen 3×4 matrices (OpenMP over
-// vertices, as the deformer).
+// glTF rigs (mesh/gltf.hpp, deform/gltf_skin.hpp), 2 cores: the per-frame cost of posing a rig's
+// animation — RigSkinner::pose: the pose transforms at time t (node hierarchy, animation sampling,
+// T_j = W_j IBM_j B⁻¹), morph weights, and SkinDeformer::pose_affine, bound once — for every blend, next
+// to a plain Eigen LBS baseline measured in the same run on the same mesh: the joint matrices S_j(t) and,
+// per vertex, Σ w_j (L_j v + t_j) over the same influences (every one: the glTF formula) with Eigen 3×4
+// matrices (OpenMP over vertices, as the deformer).
 //   BM_rig_pose/<rig>/<blend>   rig 0: CesiumMan (../shared/rigs, 2,338 welded vertices, 19 joints;
 //                               skipped without the folder), 1: the procedural limb at 10k vertices,
 //                               2: at 100k (8 joints, limb_rig); blend 0 lbs, 1 dlb, 2 log, 3 pivot-log.
 // Counters: us_per_frame (median), eigen_lbs_us (the baseline's median of 30 frames), vs_eigen_lbs (ratio),
-// motors_us (rig_pose_motors alone), vertices, joints. Frames cycle through 30 times of the animation.
-// SPINMOTOR_BENCH_QUICK=1 (bench/run --quick): the 10k limb only.
+// transforms_us (rig_joint_transforms alone), vertices, joints. Frames cycle through 30 times of the
+// animation. SPINMOTOR_BENCH_QUICK=1 (bench/run --quick): the 10k limb only.
 #include <benchmark/benchmark.h>
 
 #include <Eigen/Core>
@@ -22,7 +22,8 @@
 #include <memory>
 #include <vector>
 
-#include "spinmotor/deform/rig_skin.hpp"
+#include "spinmotor/deform/gltf_animation.hpp"
+#include "spinmotor/deform/gltf_skin.hpp"
 #include "spinmotor/mesh/gltf.hpp"
 #include "spinmotor/mesh/procedural_rig.hpp"
 
@@ -50,39 +51,26 @@ const GltfRig* rig(int which) {
   return slot.get();
 }
 
-/// The plain Eigen LBS baseline: ≤ 4 influences per vertex (the largest, renormalised — what
-/// SkinDeformer keeps), 3×4 matrices per joint.
+/// The plain Eigen LBS baseline: every influence of a vertex (the rig's rows sum to 1), 3×4 joint
+/// matrices S_j = W_j IBM_j applied to POSITION.
 struct EigenLbs {
-  std::vector<std::array<int, 4>> joint;
-  std::vector<std::array<double, 4>> weight;
+  std::vector<std::vector<std::pair<int, double>>> rows;
   std::vector<Eigen::Matrix<double, 3, 4>> M;
-  explicit EigenLbs(const GltfRig& r) {
-    const Eigen::Index n = r.mesh.V.rows();
-    joint.assign(n, {0, 0, 0, 0});
-    weight.assign(n, {0, 0, 0, 0});
-    std::vector<std::vector<std::pair<double, int>>> rows(n);
+  explicit EigenLbs(const GltfRig& r) : rows(static_cast<size_t>(r.mesh.V.rows())) {
     for (int j = 0; j < r.weights.outerSize(); ++j)
       for (Eigen::SparseMatrix<double>::InnerIterator it(r.weights, j); it; ++it)
-        rows[it.row()].emplace_back(it.value(), j);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      std::sort(rows[i].begin(), rows[i].end(), [](auto& a, auto& b) { return a.first > b.first; });
-      double s = 0;
-      for (size_t k = 0; k < std::min<size_t>(4, rows[i].size()); ++k) s += rows[i][k].first;
-      for (size_t k = 0; k < std::min<size_t>(4, rows[i].size()); ++k)
-        joint[i][k] = rows[i][k].second, weight[i][k] = rows[i][k].first / s;
-    }
+        rows[it.row()].emplace_back(j, it.value());
   }
   void pose(const GltfRig& r, double t, Eigen::MatrixXd& V) {
-    const std::vector<Eigen::Matrix4d> S = skinning_matrices(r, 0, t);
+    const std::vector<Eigen::Matrix4d> S = joint_matrices(r, node_world_matrices(r, 0, t));
     M.resize(S.size());
     for (size_t j = 0; j < S.size(); ++j) M[j] = S[j].topRows<3>();
     const Eigen::Index n = r.mesh.V.rows();
     V.resize(n, 3);
 #pragma omp parallel for schedule(static) if (n > 20000)
     for (Eigen::Index i = 0; i < n; ++i) {
-      Eigen::Matrix<double, 3, 4> A = weight[i][0] * M[joint[i][0]];
-      for (int k = 1; k < 4; ++k)
-        if (weight[i][k] != 0) A.noalias() += weight[i][k] * M[joint[i][k]];
+      Eigen::Matrix<double, 3, 4> A = rows[i][0].second * M[rows[i][0].first];
+      for (size_t k = 1; k < rows[i].size(); ++k) A.noalias() += rows[i][k].second * M[rows[i][k].first];
       V.row(i) = (A.leftCols<3>() * r.mesh.V.row(i).transpose() + A.col(3)).transpose();
     }
   }
@@ -104,7 +92,7 @@ void BM_rig_pose(benchmark::State& state) {
     return;
   }
   const SkinBlend blends[] = {SkinBlend::LBS, SkinBlend::Linear, SkinBlend::Log, SkinBlend::PivotLog};
-  SkinDeformer d = bind_rig(*r, blends[state.range(1)]);
+  RigSkinner d(*r, blends[state.range(1)]);
   Eigen::MatrixXd V, Vb;
   // The baseline: the median of 30 frames (after one warm-up).
   EigenLbs base(*r);
@@ -116,17 +104,17 @@ void BM_rig_pose(benchmark::State& state) {
     base_us.push_back(us_since(t0));
     benchmark::DoNotOptimize(Vb.data());
     t0 = std::chrono::steady_clock::now();
-    benchmark::DoNotOptimize(rig_pose_motors(*r, 0, time_at(*r, k)).data());
+    benchmark::DoNotOptimize(rig_joint_transforms(*r, d.skin(), 0, time_at(*r, k)).data());
     motor_us.push_back(us_since(t0));
   }
   std::sort(base_us.begin(), base_us.end());
   std::sort(motor_us.begin(), motor_us.end());
-  d.pose(rig_pose_motors(*r, 0, time_at(*r, 0)), V);
+  d.pose(0, time_at(*r, 0), V);
   std::vector<double> frame_us;
   int k = 0;
   for (auto _ : state) {
     const auto t0 = std::chrono::steady_clock::now();
-    d.pose(rig_pose_motors(*r, 0, time_at(*r, k++)), V);
+    d.pose(0, time_at(*r, k++), V);
     benchmark::DoNotOptimize(V.data());
     frame_us.push_back(us_since(t0));
   }
@@ -137,7 +125,7 @@ void BM_rig_pose(benchmark::State& state) {
   state.counters["us_per_frame"] = us;
   state.counters["eigen_lbs_us"] = base_us[15];
   state.counters["vs_eigen_lbs"] = us / base_us[15];
-  state.counters["motors_us"] = motor_us[15];
+  state.counters["transforms_us"] = motor_us[15];
   const char* rigs[] = {"CesiumMan", "limb-10k", "limb-100k"};
   const char* names[] = {"lbs", "dlb", "log", "pivot-log"};
   state.SetLabel(std::string(rigs[state.range(0)]) + " " + names[state.range(1)]);

@@ -42,8 +42,8 @@
 #include "spinmotor/core/stopwatch.hpp"
 #include "spinmotor/deform/delta_mush.hpp"
 #include "spinmotor/deform/direct_delta_mush.hpp"
+#include "spinmotor/deform/gltf_skin.hpp"
 #include "spinmotor/deform/rig_pins.hpp"
-#include "spinmotor/deform/rig_skin.hpp"
 #include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/generators.hpp"
@@ -207,7 +207,7 @@ void rig_study(const std::filesystem::path& dir, const std::filesystem::path& ou
     const GltfRig rig = read_gltf(dir / file);
     const RigSkin skin = rig_skin(rig);
     const Eigen::MatrixXd W(skin.weights);
-    const Mesh& rest = rig.mesh;
+    const Mesh& rest = skin.rest;  // scene coordinates, the bones' frame
     const Eigen::VectorXi pins =
         pins_from_weights(rest.V, W, 0.999, default_pin_margins(rest.V, W, skin.bones, 0.999));
     SkinDeformer lbs = SkinDeformer::bind(rest, skin.bones, W, {.blend = SkinBlend::LBS});
@@ -226,7 +226,15 @@ void rig_study(const std::filesystem::path& dir, const std::filesystem::path& ou
     const GltfAnimation& anim = rig.animations.at(0);
     for (double frac : {0.25, 0.5, 0.75}) {
       const double t = anim.start + frac * anim.duration();
-      const std::vector<ga::Mot> frames = rig_pose_motors(rig, 0, t);
+      std::vector<ga::Mot> frames;  // the rigid joint transforms T_j(t) (gltf_skin.hpp) as motors
+      for (const SkinDeformer::Affine& T : rig_joint_transforms(rig, skin, 0, t)) {
+        const Eigen::JacobiSVD<Eigen::Matrix3d> svd(T.leftCols<3>(),
+                                                    Eigen::ComputeFullU | Eigen::ComputeFullV);
+        Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
+        M.linear() = svd.matrixU() * svd.matrixV().transpose();
+        M.translation() = T.col(3);
+        frames.push_back(ga::normalize(ga::from_isometry(M)));
+      }
       char edit[96];
       std::snprintf(edit, sizeof edit, "%s t = %.2f s (%zu pins of %lld)", file, t,
                     static_cast<std::size_t>(pins.size()), static_cast<long long>(rest.V.rows()));

@@ -18,8 +18,9 @@
 #include "spinmotor/core/atomic_file.hpp"
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/core/stopwatch.hpp"
+#include "spinmotor/deform/gltf_correctives.hpp"
+#include "spinmotor/deform/gltf_skin.hpp"
 #include "spinmotor/deform/rig_pins.hpp"
-#include "spinmotor/deform/rig_skin.hpp"
 #include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/deform/spline_deformer.hpp"
 #include "spinmotor/deform/spline_ik.hpp"
@@ -34,6 +35,7 @@
 #include "spinmotor/mesh/procedural_rig.hpp"
 #include "spinmotor/mesh/validate.hpp"
 #include "spinmotor/scene/rig_cleanup.hpp"
+#include "spinmotor/scene/rig_pose.hpp"
 #include "spinmotor/spin/conformal_snap.hpp"
 #include "spinmotor/spin/pinned_cleanup.hpp"
 #include "spinmotor/spin/spin_transform.hpp"
@@ -327,11 +329,11 @@ void stage_rig(Demo& d) {
   // the skinned pose by their dominant weight (γ = 10).
   t0 = std::chrono::steady_clock::now();
   scene::RigCleanup cleanup = scene::RigCleanup::bind(arm, W, bones);
-  const Eigen::VectorXi& pins = cleanup.pins;
+  const Eigen::VectorXi& pins = cleanup.pins();
   const double clean_bind_ms = ms_since(t0);
   Mesh arm_cleaned = arm;
   t0 = std::chrono::steady_clock::now();
-  const PinnedCleanupResult kc = cleanup(skinned.V, arm_cleaned.V);
+  const scene::RigCleanupResult kc = cleanup(skinned.V, arm_cleaned.V);
   const double arm_clean_ms = ms_since(t0);
   const DeformationMetrics kcm = compute_metrics(arm, arm_cleaned.V);
   write_mesh(d.out_dir / "arm-lbs-cleaned.obj", arm_cleaned);
@@ -339,103 +341,117 @@ void stage_rig(Demo& d) {
         std::nan(""), std::nan(""), "");
   d.row("pinned cleanup of the skinned arm", arm_cleaned, arm_clean_ms, kcm.q_mean, kcm.q_max,
         "arm-lbs-cleaned.obj");
-  d.report["rig_cleanup"] = {
-      {"lbs", to_json(km)},
-      {"snapped", to_json(ksm)},
-      {"cleaned", to_json(kcm)},
-      {"bind_ms", skin_bind_ms},
-      {"pose_ms", skin_pose_ms},
-      {"snap_ms", arm_snap_ms},
-      {"cleanup_bind_ms", clean_bind_ms},
-      {"cleanup_ms", arm_clean_ms},
-      {"pins", pins.size()},
-      {"cleanup_iterations", kc.iterations},
-      {"volume_ratio_lbs", kc.rest_measure != 0 ? kc.edit_measure / kc.rest_measure : 1.0},
-      {"volume_ratio_cleaned", kc.measure_ratio()},
-      {"pin_error", kc.pin_error},
-      {"pose_weight", scene::RigCleanupOptions{}.pose_weight},
-      {"rms_to_lbs_snapped", rms_to(ks.V, skinned.V)},
-      {"rms_to_lbs_cleaned", rms_to(arm_cleaned.V, skinned.V)}};
+  d.report["rig_cleanup"] = {{"lbs", to_json(km)},
+                             {"snapped", to_json(ksm)},
+                             {"cleaned", to_json(kcm)},
+                             {"bind_ms", skin_bind_ms},
+                             {"pose_ms", skin_pose_ms},
+                             {"snap_ms", arm_snap_ms},
+                             {"cleanup_bind_ms", clean_bind_ms},
+                             {"cleanup_ms", arm_clean_ms},
+                             {"pins", pins.size()},
+                             {"cleanup_iterations", kc.iterations},
+                             {"volume_ratio_lbs", kc.edit_volume_ratio},
+                             {"volume_ratio_cleaned", kc.volume_ratio},
+                             {"pin_error", kc.pin_error},
+                             {"pose_weight", scene::RigCleanupOptions{}.pose_weight},
+                             {"rms_to_lbs_snapped", rms_to(ks.V, skinned.V)},
+                             {"rms_to_lbs_cleaned", rms_to(arm_cleaned.V, skinned.V)}};
   d.progress("skinned the arm, snapped it and cleaned it up with the rigid parts pinned");
 }
 
-/// 7. A glTF character end to end, on the project's own procedural limb (procedural_rig.hpp: a capsule
-///    with a 3-joint chain, smooth blend bands and a "twist" animation): written as a skinned .glb and
-///    read back, posed at the twist's peak with LBS (the candy wrapper) and DLB, the LBS frame cleaned
-///    up with the rigid parts pinned, and a few frames of the cleaned animation baked to morph targets.
+/// 7. A glTF character end to end, on the project's own procedural standing figure (procedural_rig.hpp:
+///    seven separate pieces on one skin, in the layout Mixamo characters come in through Blender: a
+///    scaled, turned armature above centimetre joints, morph targets on the head): written as a skinned
+///    .glb and read back, posed mid-stride with LBS (the spec's formula) and DLB, cleaned up piece by piece
+///    with the rig defaults, and the cleaned walk stored as a few corrective morph targets on the rig.
 void stage_gltf_rig(Demo& d) {
-  const std::filesystem::path file = d.out_dir / "limb-rig.glb";
+  const std::filesystem::path file = d.out_dir / "character-rig.glb";
   auto t0 = std::chrono::steady_clock::now();
-  write_gltf_rig(file,
-                 limb_rig({.radius = 0.3, .length = 3.0, .rings = 64, .sides = 24, .twist_degrees = 120}));
+  write_gltf_rig(file, character_rig({.layout = CharacterLayout::Mixamo, .walk_degrees = 50}));
   const GltfRig rig = read_gltf(file);
   const double io_ms = ms_since(t0);
-  const int twist = 1;  // the animation "twist": 0 → 120° → 0 over [0, 2] s
-  const double peak = rig.animations[twist].end / 2;
-  const std::vector<ga::Mot> motors = rig_pose_motors(rig, twist, peak);
-  Mesh lbs = rig.mesh, dlb = rig.mesh;
-  SkinDeformer skin_lbs = bind_rig(rig, SkinBlend::LBS), skin_dlb = bind_rig(rig, SkinBlend::Linear);
+  const int walk = 0;
+  const double t = 0.25;  // mid-stride
+  scene::RigPoser lbs_poser(rig, {.animation = walk, .blend = SkinBlend::LBS});
+  scene::RigPoser dlb_poser(rig, {.animation = walk, .blend = SkinBlend::Linear});
+  const Mesh& rest = lbs_poser.rig_skin().rest;
+  Mesh lbs = rest, dlb = rest;
   t0 = std::chrono::steady_clock::now();
-  skin_lbs.pose(motors, lbs.V);
+  lbs.V = lbs_poser.pose(t);
   const double lbs_ms = ms_since(t0);
-  skin_dlb.pose(motors, dlb.V);
-  const DeformationMetrics ml = compute_metrics(rig.mesh, lbs.V), md = compute_metrics(rig.mesh, dlb.V);
-  write_mesh(d.out_dir / "limb-lbs.obj", lbs);
-  write_mesh(d.out_dir / "limb-dlb.obj", dlb);
-  d.row("glTF rig: write + read limb-rig.glb (3 joints)", rig.mesh, io_ms, std::nan(""), std::nan(""),
-        "limb-rig.glb");
-  d.row("rig pose (LBS, twist 120 deg)", lbs, lbs_ms, ml.q_mean, ml.q_max, "limb-lbs.obj");
-  d.row("rig pose (DLB, twist 120 deg)", dlb, std::nan(""), md.q_mean, md.q_max, "limb-dlb.obj");
-
-  // The pose-keeping cleanup of the LBS frame with the rig defaults (scene/rig_cleanup.hpp): the rigid
-  // parts of the skin pinned, the rest held near the pose by the weights' attraction.
-  const RigSkin skin = rig_skin(rig);
+  dlb.V = dlb_poser.pose(t);
+  const MetricsOptions mo{.willmore = false, .skip_degenerate_rest = true};
+  const DeformationMetrics ml = compute_metrics(rest.V, rest.F, lbs.V, mo),
+                           md = compute_metrics(rest.V, rest.F, dlb.V, mo);
+  const WriteOptions pieces = [&] {
+    WriteOptions w;
+    for (const GltfPiece& p : rig.pieces) w.objects.emplace_back(p.name, p.first_face);
+    return w;
+  }();
+  write_mesh(d.out_dir / "character-rest.obj", rest, pieces);
+  write_mesh(d.out_dir / "character-lbs.obj", lbs, pieces);
+  write_mesh(d.out_dir / "character-dlb.obj", dlb, pieces);
+  d.row("glTF rig: write + read character-rig.glb (" + std::to_string(rig.pieces.size()) + " meshes)", rest,
+        io_ms, std::nan(""), std::nan(""), "character-rig.glb");
+  d.row("rig pose (LBS, walk t = 0.25 s)", lbs, lbs_ms, ml.q_mean, ml.q_max, "character-lbs.obj");
+  d.row("rig pose (DLB, walk t = 0.25 s)", dlb, std::nan(""), md.q_mean, md.q_max, "character-dlb.obj");
+  // The pose-keeping cleanup with the rig defaults (scene/rig_cleanup.hpp), piece by piece.
   t0 = std::chrono::steady_clock::now();
-  scene::RigCleanup cleanup = scene::RigCleanup::bind(rig.mesh, skin.weights, skin.bones);
-  const Eigen::VectorXi& pins = cleanup.pins;
+  scene::RigPoseOptions co{
+      .animation = walk, .blend = SkinBlend::LBS, .cleanup = scene::RigCleanupMode::Pinned};
+  co.cleanup_options.cleanup.warm_start = true;
+  scene::RigPoser poser(rig, co);
   const double bind_ms = ms_since(t0);
-  Mesh cleaned = rig.mesh;
+  Mesh cleaned = rest;
   t0 = std::chrono::steady_clock::now();
-  const PinnedCleanupResult r = cleanup(lbs.V, cleaned.V);
+  cleaned.V = poser.pose(t);
   const double clean_ms = ms_since(t0);
-  const DeformationMetrics mc = compute_metrics(rig.mesh, cleaned.V);
-  write_mesh(d.out_dir / "limb-lbs-cleaned.obj", cleaned);
-  d.row("rig cleanup bind (" + std::to_string(pins.size()) + " pins from the weights)", rig.mesh, bind_ms,
-        std::nan(""), std::nan(""), "");
-  d.row("rig cleanup of the LBS twist", cleaned, clean_ms, mc.q_mean, mc.q_max, "limb-lbs-cleaned.obj");
-
-  // Bake: 5 frames of the twist, skinned with LBS and cleaned, as morph targets (Blender: shape keys).
+  const scene::RigCleanupResult r = poser.last_cleanup();
+  const DeformationMetrics mc = compute_metrics(rest.V, rest.F, cleaned.V, mo);
+  write_mesh(d.out_dir / "character-cleaned.obj", cleaned, pieces);
+  std::map<std::string, int> statuses;
+  for (const scene::RigCleanupPiece& p : poser.cleanup()->pieces())
+    ++statuses[std::string(option_name(p.status))];
+  d.row("rig cleanup bind (" + std::to_string(poser.cleanup()->pins().size()) + " pins, " +
+            std::to_string(statuses["cleaned"]) + " of " + std::to_string(poser.cleanup()->pieces().size()) +
+            " pieces to clean)",
+        rest, bind_ms, std::nan(""), std::nan(""), "");
+  d.row("rig cleanup of the LBS walk", cleaned, clean_ms, mc.q_mean, mc.q_max, "character-cleaned.obj");
+  // The cleaned walk (9 frames) as corrective morph targets on the rig (Blender, three.js: shape keys).
   t0 = std::chrono::steady_clock::now();
-  const int n = 5;
-  std::vector<Eigen::MatrixXd> frames(n);
-  std::vector<double> times(n);
-  Eigen::MatrixXd V;
-  for (int f = 0; f < n; ++f) {
-    times[f] = gltf_frame_time(rig.animations[twist], f, n);
-    skin_lbs.pose(rig_pose_motors(rig, twist, times[f]), V);
-    (void)cleanup(V, frames[f]);
-  }
-  write_gltf_morph_animation(d.out_dir / "limb-baked.glb", rig.mesh, frames, times, "limb-cleaned");
+  const std::vector<double> times = scene::rig_frame_times(rig, walk, 9);
+  std::vector<Eigen::MatrixXd> frames;
+  poser.cleanup()->reset();
+  for (double tf : times) frames.push_back(poser.pose_scene(tf));
+  const CorrectiveRig cr = corrective_rig(rig, walk, times, frames);
+  write_gltf_rig(d.out_dir / "character-correctives.glb", cr.rig);
   const double bake_ms = ms_since(t0);
-  d.row("rig bake: 5 frames skinned + cleaned", rig.mesh, bake_ms, std::nan(""), std::nan(""),
-        "limb-baked.glb");
+  int targets = 0;
+  for (int k : cr.targets) targets += k;
+  d.row("rig bake: 9 cleaned frames as " + std::to_string(targets) + " corrective targets", rest, bake_ms,
+        std::nan(""), std::nan(""), "character-correctives.glb");
   d.report["gltf_rig"] = {{"vertices", rig.mesh.num_vertices()},
                           {"file_vertices", rig.file_vertices},
+                          {"meshes", rig.pieces.size()},
                           {"joints", rig.num_joints()},
                           {"write_read_ms", io_ms},
                           {"lbs", to_json(ml)},
                           {"dlb", to_json(md)},
                           {"cleaned", to_json(mc)},
-                          {"pins", pins.size()},
+                          {"pins", poser.cleanup()->pins().size()},
+                          {"piece_statuses", statuses},
                           {"cleanup_bind_ms", bind_ms},
                           {"cleanup_ms", clean_ms},
                           {"cleanup_iterations", r.iterations},
-                          {"volume_ratio_lbs", r.rest_measure != 0 ? r.edit_measure / r.rest_measure : 1.0},
-                          {"volume_ratio_cleaned", r.measure_ratio()},
+                          {"volume_ratio_lbs", r.edit_volume_ratio},  // over the closed pieces cleaned
+                          {"volume_ratio_cleaned", r.volume_ratio},
                           {"pin_error", r.pin_error},
-                          {"bake_frames", n},
+                          {"corrective_targets", cr.targets},
+                          {"corrective_max_error", cr.max_error},
+                          {"bake_frames", times.size()},
                           {"bake_ms", bake_ms}};
-  d.progress("wrote a glTF rig, posed its twist, cleaned it up and baked it");
+  d.progress("wrote a glTF character, posed its walk, cleaned it up and baked correctives");
 }
 
 void run_demo(Demo& d) {

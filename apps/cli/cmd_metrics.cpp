@@ -58,6 +58,7 @@ void print_table(const spinmotor::DeformationMetrics& m) {
   row("rms", m.rms, ("RMS vertex distance / bounding-box diagonal, " + aligned).c_str());
   row("max", m.max, ("max vertex distance / bounding-box diagonal, " + aligned).c_str());
   row("diagonal", m.diagonal, "rest bounding-box diagonal");
+  if (m.volume_ratio) row("volume_ratio", *m.volume_ratio, "enclosed volume / rest volume (closed meshes)");
   if (m.alignment == spinmotor::Alignment::Similarity) row("alignment_scale", m.transform.scale, "");
   if (m.willmore_rest) row("willmore_rest", *m.willmore_rest, "integral of H^2 dA (sphere: 4 pi)");
   if (m.willmore_deformed) row("willmore_deformed", *m.willmore_deformed, "");

@@ -1,8 +1,10 @@
 #include "spinmotor/deform/skinning.hpp"
 
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -211,12 +213,19 @@ SkinDeformer SkinDeformer::bind_rows(const Mesh& rest, std::span<const Bone> bon
                                      std::vector<std::vector<std::pair<int, double>>> rows,
                                      const Options& options) {
   check_skeleton(bones);
+  if (options.max_influences < 0) throw Error("SkinDeformer: max_influences must be ≥ 0 (0 = all)");
   const Eigen::Index n = rest.V.rows();
+  const bool motor_log = options.blend == Blend::Log || options.blend == Blend::PivotLog;
+  const std::size_t cap =
+      motor_log ? std::size_t(options.max_influences == 0 ? 4 : std::min(options.max_influences, 4))
+      : options.max_influences == 0 ? std::numeric_limits<std::size_t>::max()
+                                    : std::size_t(options.max_influences);
   SkinDeformer d;
   d.options_ = options;
   d.bones_.assign(bones.begin(), bones.end());
   d.P_ = rest.V;
   d.inf_.resize(n);
+  d.kept_begin_.assign(1, 0);
   for (Eigen::Index i = 0; i < n; ++i) {
     if (!rest.V.row(i).allFinite())
       throw Error("SkinDeformer: vertex " + std::to_string(i) + " is not finite");
@@ -225,9 +234,9 @@ SkinDeformer SkinDeformer::bind_rows(const Mesh& rest, std::span<const Bone> bon
       if (!std::isfinite(w) || w < 0.0)
         throw Error("SkinDeformer: weight of vertex " + std::to_string(i) + " for bone '" + bones[j].name +
                     "' is negative or not finite");
-    // the 4 largest, ties to the lower bone index (the pivot is then ga::blend's first maximum)
+    // the largest, ties to the lower bone index (the pivot is then ga::blend's first maximum)
     std::stable_sort(r.begin(), r.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
-    if (r.size() > 4) r.resize(4);
+    if (r.size() > cap) r.resize(cap);
     double sum = 0.0;
     for (const auto& e : r) sum += e.second;
     if (std::isinf(sum)) {  // finite weights near DBL_MAX: normalise them relative to the largest first
@@ -237,42 +246,45 @@ SkinDeformer SkinDeformer::bind_rows(const Mesh& rest, std::span<const Bone> bon
     }
     if (!(sum > 0.0))
       throw Error("SkinDeformer: vertex " + std::to_string(i) + " has no positive bone weight");
-    for (std::size_t s = 0; s < r.size(); ++s) {
-      d.inf_[i].bone[s] = r[s].first;
-      d.inf_[i].w[s] = r[s].second / sum;
-    }
-    for (std::size_t s = r.size(); s < 4; ++s) d.inf_[i].bone[s] = r[0].first;  // weight 0, a valid bone
+    for (auto& e : r) e.second /= sum;
+    const std::size_t top = std::min<std::size_t>(r.size(), 4);
+    double top_sum = 0.0;
+    for (std::size_t s = 0; s < top; ++s) top_sum += r[s].second;
+    for (std::size_t s = 0; s < top; ++s)
+      d.inf_[i].bone[s] = r[s].first, d.inf_[i].w[s] = r[s].second / top_sum;
+    for (std::size_t s = top; s < 4; ++s) d.inf_[i].bone[s] = r[0].first;  // weight 0, a valid bone
+    d.kept_.insert(d.kept_.end(), r.begin(), r.end());
+    d.kept_begin_.push_back(d.kept_.size());
   }
   const std::size_t B = bones.size();
-  if (options.blend == Blend::LBS || options.blend == Blend::Linear) {
-    const Eigen::Index blocks = (n + kLbsBlock - 1) / kLbsBlock;
-    std::vector<int> slot(B, -1);  // bone -> its entry in the current block
-    d.lbs_begin_.assign(1, 0);
-    for (Eigen::Index k = 0; k < blocks; ++k) {
-      const std::size_t first = d.lbs_bones_.size();
-      const Eigen::Index s0 = k * kLbsBlock, len = std::min(kLbsBlock, n - s0);
-      for (Eigen::Index i = s0; i < s0 + len; ++i)
-        for (int s = 0; s < 4; ++s) {
-          const Influence& f = d.inf_[i];
-          if (f.w[s] == 0.0) continue;
-          int& e = slot[f.bone[s]];
-          if (e < 0) {
-            e = static_cast<int>(d.lbs_bones_.size());
-            d.lbs_bones_.push_back(f.bone[s]);
-            d.lbs_w_.resize(d.lbs_bones_.size() * kLbsBlock, 0.0);
-          }
-          d.lbs_w_[static_cast<std::size_t>(e) * kLbsBlock + static_cast<std::size_t>(i - s0)] = f.w[s];
+  const Eigen::Index blocks = (n + kLbsBlock - 1) / kLbsBlock;
+  std::vector<int> slot(B, -1);  // bone -> its entry in the current block
+  d.lbs_begin_.assign(1, 0);
+  for (Eigen::Index k = 0; k < blocks; ++k) {
+    const std::size_t first = d.lbs_bones_.size();
+    const Eigen::Index s0 = k * kLbsBlock, len = std::min(kLbsBlock, n - s0);
+    for (Eigen::Index i = s0; i < s0 + len; ++i)
+      for (std::size_t e = d.kept_begin_[i]; e < d.kept_begin_[i + 1]; ++e) {
+        const auto [bone, w] = d.kept_[e];
+        if (w == 0.0) continue;
+        int& slot_e = slot[bone];
+        if (slot_e < 0) {
+          slot_e = static_cast<int>(d.lbs_bones_.size());
+          d.lbs_bones_.push_back(bone);
+          d.lbs_w_.resize(d.lbs_bones_.size() * kLbsBlock, 0.0);
         }
-      for (std::size_t e = first; e < d.lbs_bones_.size(); ++e) slot[d.lbs_bones_[e]] = -1;
-      d.lbs_begin_.push_back(d.lbs_bones_.size());
-      int pivot = d.inf_[s0].bone[0];  // DLB: one pivot bone for the whole block, or -1
-      for (Eigen::Index i = s0; i < s0 + len; ++i)
-        if (d.inf_[i].bone[0] != pivot) pivot = -1;
-      d.lbs_pivot_.push_back(pivot);
-    }
+        d.lbs_w_[static_cast<std::size_t>(slot_e) * kLbsBlock + static_cast<std::size_t>(i - s0)] = w;
+      }
+    for (std::size_t e = first; e < d.lbs_bones_.size(); ++e) slot[d.lbs_bones_[e]] = -1;
+    d.lbs_begin_.push_back(d.lbs_bones_.size());
+    int pivot = d.inf_[s0].bone[0];  // DLB: one pivot bone for the whole block, or -1
+    for (Eigen::Index i = s0; i < s0 + len; ++i)
+      if (d.inf_[i].bone[0] != pivot) pivot = -1;
+    d.lbs_pivot_.push_back(pivot);
   }
   d.motions_.resize(B);
   d.matrices_.resize(B);
+  d.stretch_.resize(B);
   d.logs_.resize(options.blend == Blend::PivotLog ? B * B : B);
   d.signs_.resize(options.blend == Blend::Linear ? B * B : 0);
   for (const Bone& b : bones) d.controls_.push_back({b.name, b.head});
@@ -286,6 +298,11 @@ void SkinDeformer::prepare(std::span<const ga::Mot> frames) {
                 " bones");
   for (std::size_t j = 0; j < B; ++j)  // K_j = F_j ~F_j^0
     motions_[j] = ga::normalize(unit_frame(frames[j], bones_[j].name) * ga::reverse(bones_[j].rest));
+  prepare_blend();
+}
+
+void SkinDeformer::prepare_blend() {
+  const std::size_t B = bones_.size();
   switch (options_.blend) {
     case Blend::LBS:
       for (std::size_t j = 0; j < B; ++j) matrices_[j] = ga::to_isometry(motions_[j]).matrix().topRows<3>();
@@ -312,100 +329,145 @@ void SkinDeformer::prepare(std::span<const ga::Mot> frames) {
 
 void SkinDeformer::pose(std::span<const ga::Mot> frames, Eigen::MatrixXd& V_out) {
   prepare(frames);
-  const Eigen::Index n = vertices(), B = static_cast<Eigen::Index>(bones_.size());
-  if (V_out.rows() != n || V_out.cols() != 3) V_out.resize(n, 3);
-  const Influence* inf = inf_.data();
-  const Eigen::MatrixXd& P = P_;
-  switch (options_.blend) {
-    case Blend::LBS: {  // v_i = Σ_j w_ij T_j [p_i; 1], bone by bone over blocks of vertices
-      const Eigen::Matrix<double, 3, 4>* T = matrices_.data();
-      const Eigen::Index blocks = (n + kLbsBlock - 1) / kLbsBlock;
+  if (V_out.rows() != vertices() || V_out.cols() != 3) V_out.resize(vertices(), 3);
+  if (options_.blend == Blend::LBS)
+    blend_lbs(P_, matrices_.data(), V_out);
+  else
+    blend_motors(P_, V_out);
+}
+
+void SkinDeformer::pose_affine(std::span<const Affine> transforms, const Eigen::MatrixXd* points,
+                               Eigen::MatrixXd& V_out) {
+  const std::size_t B = bones_.size();
+  if (transforms.size() != B)
+    throw Error("SkinDeformer: " + std::to_string(transforms.size()) + " bone transforms for " +
+                std::to_string(B) + " bones");
+  const Eigen::MatrixXd& P = points ? *points : P_;
+  if (P.rows() != vertices() || P.cols() != 3)
+    throw Error("SkinDeformer: " + std::to_string(P.rows()) + "×" + std::to_string(P.cols()) +
+                " points for " + std::to_string(vertices()) + " vertices");
+  if (V_out.rows() != vertices() || V_out.cols() != 3) V_out.resize(vertices(), 3);
+  for (std::size_t j = 0; j < B; ++j)
+    if (!transforms[j].allFinite())
+      throw Error("SkinDeformer: the transform of bone '" + bones_[j].name + "' is not finite");
+  if (options_.blend == Blend::LBS) return blend_lbs(P, transforms.data(), V_out);
+  for (std::size_t j = 0; j < B; ++j)
+    if (!(transforms[j].leftCols<3>().determinant() > 0))
+      throw Error("SkinDeformer: the transform of bone '" + bones_[j].name +
+                  "' mirrors or collapses space (det ≤ 0): only LBS blends such transforms");
+  // Two phases (header comment): the stretches about the rest heads, then the rigid motions.
+  bool stretched = false;
+  for (std::size_t j = 0; j < B; ++j) {
+    const Eigen::Matrix3d L = transforms[j].leftCols<3>();
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(L, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    const Eigen::Matrix3d R = svd.matrixU() * svd.matrixV().transpose();  // det > 0: det L > 0
+    const Eigen::Matrix3d S = svd.matrixV() * svd.singularValues().asDiagonal() * svd.matrixV().transpose();
+    const Eigen::Vector3d c = bones_[j].head;
+    const bool rigid = (S - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-9;
+    stretched = stretched || !rigid;
+    stretch_[j].leftCols<3>() = rigid ? Eigen::Matrix3d::Identity() : S;
+    stretch_[j].col(3) = rigid ? Eigen::Vector3d::Zero() : Eigen::Vector3d(c - S * c);
+    Eigen::Isometry3d M = Eigen::Isometry3d::Identity();  // a rigid A_j's float noise projected onto R
+    M.linear() = R;
+    M.translation() = transforms[j].col(3) + (rigid ? Eigen::Vector3d::Zero() : Eigen::Vector3d((L - R) * c));
+    motions_[j] = ga::normalize(ga::from_isometry(M));
+  }
+  prepare_blend();
+  if (!stretched) return blend_motors(P, V_out);
+  if (stretched_.rows() != vertices()) stretched_.resize(vertices(), 3);
+  blend_lbs(P, stretch_.data(), stretched_);
+  blend_motors(stretched_, V_out);
+}
+
+void SkinDeformer::blend_lbs(const Eigen::MatrixXd& P, const Eigen::Matrix<double, 3, 4>* T,
+                             Eigen::MatrixXd& V_out) const {
+  // v_i = Σ_j w_ij T_j [p_i; 1], bone by bone over blocks of vertices
+  const Eigen::Index n = vertices();
+  const Eigen::Index blocks = (n + kLbsBlock - 1) / kLbsBlock;
 #pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend))
-      for (Eigen::Index k = 0; k < blocks; ++k) {
-        const Eigen::Index s0 = k * kLbsBlock, len = std::min(kLbsBlock, n - s0);
-        const auto x = P.col(0).segment(s0, len).array(), y = P.col(1).segment(s0, len).array(),
-                   z = P.col(2).segment(s0, len).array();
-        auto vx = V_out.col(0).segment(s0, len).array(), vy = V_out.col(1).segment(s0, len).array(),
-             vz = V_out.col(2).segment(s0, len).array();
-        vx.setZero(), vy.setZero(), vz.setZero();
-        for (std::size_t e = lbs_begin_[k]; e < lbs_begin_[k + 1]; ++e) {
-          const Eigen::Matrix<double, 3, 4>& M = T[lbs_bones_[e]];
-          const Eigen::Map<const Eigen::ArrayXd> w(lbs_w_.data() + static_cast<Eigen::Index>(e) * kLbsBlock,
-                                                   len);
-          vx += w * (M(0, 0) * x + M(0, 1) * y + M(0, 2) * z + M(0, 3));
-          vy += w * (M(1, 0) * x + M(1, 1) * y + M(1, 2) * z + M(1, 3));
-          vz += w * (M(2, 0) * x + M(2, 1) * y + M(2, 2) * z + M(2, 3));
-        }
-      }
-      break;
+  for (Eigen::Index k = 0; k < blocks; ++k) {
+    const Eigen::Index s0 = k * kLbsBlock, len = std::min(kLbsBlock, n - s0);
+    const auto x = P.col(0).segment(s0, len).array(), y = P.col(1).segment(s0, len).array(),
+               z = P.col(2).segment(s0, len).array();
+    auto vx = V_out.col(0).segment(s0, len).array(), vy = V_out.col(1).segment(s0, len).array(),
+         vz = V_out.col(2).segment(s0, len).array();
+    vx.setZero(), vy.setZero(), vz.setZero();
+    for (std::size_t e = lbs_begin_[k]; e < lbs_begin_[k + 1]; ++e) {
+      const Eigen::Matrix<double, 3, 4>& M = T[lbs_bones_[e]];
+      const Eigen::Map<const Eigen::ArrayXd> w(lbs_w_.data() + static_cast<Eigen::Index>(e) * kLbsBlock, len);
+      vx += w * (M(0, 0) * x + M(0, 1) * y + M(0, 2) * z + M(0, 3));
+      vy += w * (M(1, 0) * x + M(1, 1) * y + M(1, 2) * z + M(1, 3));
+      vz += w * (M(2, 0) * x + M(2, 1) * y + M(2, 2) * z + M(2, 3));
     }
-    case Blend::Linear: {  // Σ_j s_pj w_ij K_j bone by bone over blocks of vertices, then dlb_point's formula
-      const ga::Mot* K = motions_.data();
-      const double* S = signs_.data();
-      const Eigen::Index blocks = (n + kLbsBlock - 1) / kLbsBlock;
-      bool cancelled = false;
+  }
+}
+
+void SkinDeformer::blend_motors(const Eigen::MatrixXd& P, Eigen::MatrixXd& V_out) const {
+  const Eigen::Index n = vertices(), B = static_cast<Eigen::Index>(bones_.size());
+  const Influence* inf = inf_.data();
+  if (options_.blend ==
+      Blend::Linear) {  // Σ_j s_pj w_ij K_j bone by bone over blocks, then dlb_point's formula
+    const ga::Mot* K = motions_.data();
+    const double* S = signs_.data();
+    const Eigen::Index blocks = (n + kLbsBlock - 1) / kLbsBlock;
+    bool cancelled = false;
 #pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend)) \
     reduction(||                                                                         \
               : cancelled)
-      for (Eigen::Index k = 0; k < blocks; ++k) {
-        using A = Eigen::Array<double, Eigen::Dynamic, 1, 0, kLbsBlock, 1>;  // on the stack
-        const Eigen::Index s0 = k * kLbsBlock, len = std::min(kLbsBlock, n - s0);
-        std::array<A, 8> m;
-        for (A& c : m) c.setZero(len);
-        A ws(len);
-        for (std::size_t e = lbs_begin_[k]; e < lbs_begin_[k + 1]; ++e) {
-          const int j = lbs_bones_[e];
-          const double* w = lbs_w_.data() + static_cast<Eigen::Index>(e) * kLbsBlock;
-          const double* kj = K[j].data();
-          if (const int p = lbs_pivot_[k]; p >= 0) {  // one pivot bone p for the block: one sign s_pj
-            const Eigen::Map<const Eigen::ArrayXd> wm(w, len);
-            const double sj = S[static_cast<Eigen::Index>(p) * B + j];
-            for (int c = 0; c < 8; ++c) m[c] += (sj * kj[c]) * wm;
-            continue;
-          }
-          for (Eigen::Index i = 0; i < len; ++i)  // s_pj: the sign of K_j against the vertex's pivot bone p
-            ws[i] = w[i] * S[static_cast<Eigen::Index>(inf[s0 + i].bone[0]) * B + j];
-          for (int c = 0; c < 8; ++c) m[c] += kj[c] * ws;
+    for (Eigen::Index k = 0; k < blocks; ++k) {
+      using A = Eigen::Array<double, Eigen::Dynamic, 1, 0, kLbsBlock, 1>;  // on the stack
+      const Eigen::Index s0 = k * kLbsBlock, len = std::min(kLbsBlock, n - s0);
+      std::array<A, 8> m;
+      for (A& c : m) c.setZero(len);
+      A ws(len);
+      for (std::size_t e = lbs_begin_[k]; e < lbs_begin_[k + 1]; ++e) {
+        const int j = lbs_bones_[e];
+        const double* w = lbs_w_.data() + static_cast<Eigen::Index>(e) * kLbsBlock;
+        const double* kj = K[j].data();
+        if (const int p = lbs_pivot_[k]; p >= 0) {  // one pivot bone p for the block: one sign s_pj
+          const Eigen::Map<const Eigen::ArrayXd> wm(w, len);
+          const double sj = S[static_cast<Eigen::Index>(p) * B + j];
+          for (int c = 0; c < 8; ++c) m[c] += (sj * kj[c]) * wm;
+          continue;
         }
-        // dlb_point's formula (dlb_point.hpp), across the block
-        const auto px = P.col(0).segment(s0, len).array(), py = P.col(1).segment(s0, len).array(),
-                   pz = P.col(2).segment(s0, len).array();
-        auto ox = V_out.col(0).segment(s0, len).array(), oy = V_out.col(1).segment(s0, len).array(),
-             oz = V_out.col(2).segment(s0, len).array();
-        detail::dlb_point_into<A>(m, px, py, pz, ox, oy, oz);
-        cancelled = cancelled || !(ox.isFinite().all() && oy.isFinite().all() && oz.isFinite().all());
+        for (Eigen::Index i = 0; i < len; ++i)  // s_pj: the sign of K_j against the vertex's pivot bone p
+          ws[i] = w[i] * S[static_cast<Eigen::Index>(inf[s0 + i].bone[0]) * B + j];
+        for (int c = 0; c < 8; ++c) m[c] += kj[c] * ws;
       }
-      if (cancelled)
-        throw numerical_error("SkinDeformer: the linear blend of the bone motors cancels at a vertex");
-      break;
+      // dlb_point's formula (dlb_point.hpp), across the block
+      const auto px = P.col(0).segment(s0, len).array(), py = P.col(1).segment(s0, len).array(),
+                 pz = P.col(2).segment(s0, len).array();
+      auto ox = V_out.col(0).segment(s0, len).array(), oy = V_out.col(1).segment(s0, len).array(),
+           oz = V_out.col(2).segment(s0, len).array();
+      detail::dlb_point_into<A>(m, px, py, pz, ox, oy, oz);
+      cancelled = cancelled || !(ox.isFinite().all() && oy.isFinite().all() && oz.isFinite().all());
     }
-    case Blend::Log:
-    case Blend::PivotLog: {
-      const bool pivot = options_.blend == Blend::PivotLog;
-      const ga::Dll* L = logs_.data();
-      const ga::Mot* K = motions_.data();
+    if (cancelled)
+      throw numerical_error("SkinDeformer: the linear blend of the bone motors cancels at a vertex");
+    return;
+  }
+  const bool pivot = options_.blend == Blend::PivotLog;
+  const ga::Dll* L = logs_.data();
+  const ga::Mot* K = motions_.data();
 #pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend))
-      for (Eigen::Index i = 0; i < n; ++i) {
-        const Influence& f = inf[i];
-        const ga::Dll* l = pivot ? L + static_cast<Eigen::Index>(f.bone[0]) * B : L;
-        ga::Dll acc;
-        for (int s = 0; s < 4; ++s)
-          for (int c = 0; c < 6; ++c) acc.c[c] += f.w[s] * l[f.bone[s]].c[c];
-        ga::Mot m = ga::exp(acc);  // eq. (1)
-        if (pivot) m = m * K[f.bone[0]];
-        const Eigen::Vector3d q = ga::transform(m, Eigen::Vector3d(P(i, 0), P(i, 1), P(i, 2)));
-        V_out(i, 0) = q.x(), V_out(i, 1) = q.y(), V_out(i, 2) = q.z();
-      }
-      break;
-    }
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Influence& f = inf[i];
+    const ga::Dll* l = pivot ? L + static_cast<Eigen::Index>(f.bone[0]) * B : L;
+    ga::Dll acc;
+    for (int s = 0; s < 4; ++s)
+      for (int c = 0; c < 6; ++c) acc.c[c] += f.w[s] * l[f.bone[s]].c[c];
+    ga::Mot m = ga::exp(acc);  // eq. (1)
+    if (pivot) m = m * K[f.bone[0]];
+    const Eigen::Vector3d q = ga::transform(m, Eigen::Vector3d(P(i, 0), P(i, 1), P(i, 2)));
+    V_out(i, 0) = q.x(), V_out(i, 1) = q.y(), V_out(i, 2) = q.z();
   }
 }
 
 Eigen::SparseMatrix<double> SkinDeformer::weights() const {
   std::vector<Eigen::Triplet<double>> t;
   for (Eigen::Index i = 0; i < vertices(); ++i)
-    for (int s = 0; s < 4; ++s)
-      if (inf_[i].w[s] != 0.0) t.emplace_back(i, inf_[i].bone[s], inf_[i].w[s]);
+    for (std::size_t e = kept_begin_[i]; e < kept_begin_[i + 1]; ++e)
+      if (kept_[e].second != 0.0) t.emplace_back(i, kept_[e].first, kept_[e].second);
   Eigen::SparseMatrix<double> W(vertices(), static_cast<Eigen::Index>(bones_.size()));
   W.setFromTriplets(t.begin(), t.end());
   return W;

@@ -55,12 +55,21 @@ void DirichletSolver::bind(const Eigen::SparseMatrix<double>& A, const Eigen::Ve
 }
 
 void DirichletSolver::bind(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXi& constrained,
+                           Kind kind, const std::vector<char>& anchors) {
+  if (static_cast<Eigen::Index>(anchors.size()) != A.rows())
+    throw Error("DirichletSolver: " + std::to_string(anchors.size()) + " anchor flags for " +
+                std::to_string(A.rows()) + " unknowns");
+  bind_impl(A, constrained, nullptr, kind, &anchors);
+}
+
+void DirichletSolver::bind(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXi& constrained,
                            const Eigen::VectorXi& free_order, Kind kind) {
   bind_impl(A, constrained, &free_order, kind);
 }
 
 void DirichletSolver::bind_impl(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXi& constrained,
-                                const Eigen::VectorXi* free_order, Kind kind) {
+                                const Eigen::VectorXi* free_order, Kind kind,
+                                const std::vector<char>* anchors) {
   Impl& m = *impl_;
   m.n = -1;
   m.cholesky.reset();
@@ -88,6 +97,9 @@ void DirichletSolver::bind_impl(const Eigen::SparseMatrix<double>& A, const Eige
   const detail::GraphComponents g = detail::matrix_components(A);
   std::vector<char> anchored(g.count(), 0);
   for (Eigen::Index r = 0; r < constrained.size(); ++r) anchored[g.label[constrained[r]]] = 1;
+  if (anchors)
+    for (int i = 0; i < n; ++i)
+      if ((*anchors)[i]) anchored[g.label[i]] = 1;
   std::vector<FloatingComponentError::Component> floating;
   for (int c = 0; c < g.count(); ++c)
     if (!anchored[c]) floating.push_back({c, g.size[c], g.first[c]});

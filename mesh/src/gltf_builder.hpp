@@ -1,5 +1,5 @@
 #pragma once
-// Internal to the mesh module: the pieces the glTF writers share (io_gltf.cpp's baked morph animation,
+// Internal to the mesh module: the pieces the glTF writers share (gltf_morph_animation.cpp's baked animation,
 // gltf_rig_writer.cpp's skinned rig) — one buffer of 4-byte aligned views with their accessors, the
 // split of a welded mesh with per-corner UVs back into glTF vertices, and the atomic serialisation.
 #include <tiny_gltf.h>
@@ -73,6 +73,21 @@ struct GltfBuilder {
   int vec3_accessor(const std::vector<float>& xyz) {
     return float_accessor(xyz, TINYGLTF_TYPE_VEC3, 3, TINYGLTF_TARGET_ARRAY_BUFFER, true);
   }
+  /// TEXCOORD_0 of glTF vertices whose UV rows are `rows` (v flipped back to glTF's top-left origin).
+  int uv_accessor(const Eigen::MatrixXd& UV, const std::vector<int>& rows) {
+    std::vector<float> tex(2 * rows.size());
+    for (size_t i = 0; i < rows.size(); ++i) {
+      tex[2 * i] = static_cast<float>(UV(rows[i], 0));
+      tex[2 * i + 1] = static_cast<float>(1.0 - UV(rows[i], 1));
+    }
+    return float_accessor(tex, TINYGLTF_TYPE_VEC2, 2, TINYGLTF_TARGET_ARRAY_BUFFER, false);
+  }
+  /// uint32 triangle indices.
+  int index_accessor(const std::vector<uint32_t>& indices) {
+    const int view =
+        add_view(indices.data(), indices.size() * sizeof(uint32_t), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    return add_accessor(view, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, indices.size(), TINYGLTF_TYPE_SCALAR);
+  }
 
   /// Adds the buffer and writes the model as .gltf (buffer as a data: URI) or .glb, atomically.
   void write(const std::filesystem::path& path, bool glb) {
@@ -87,6 +102,15 @@ struct GltfBuilder {
     write_text_atomic(path, os.str());
   }
 };
+
+/// mesh.extras.targetNames (the morph target names Blender and three.js read).
+inline void set_target_names(tinygltf::Mesh& mesh, const std::vector<std::string>& names) {
+  tinygltf::Value::Array list;
+  for (const std::string& n : names) list.emplace_back(n);
+  tinygltf::Value::Object extras;
+  extras["targetNames"] = tinygltf::Value(std::move(list));
+  mesh.extras = tinygltf::Value(std::move(extras));
+}
 
 /// glTF vertices of a mesh with per-corner UVs: one per distinct (vertex, UV index) pair of the corners
 /// (UVs split vertices at seams; without UVs one per vertex). vertex_order = false: in order of first

@@ -106,7 +106,7 @@ Mesh read_mesh(const fs::path& path) {
 void write_mesh(const fs::path& path, const Mesh& mesh, const WriteOptions& options) {
   switch (mesh_format(path)) {
     case MeshFormat::Obj:
-      return write_obj(path, mesh);
+      return write_obj(path, mesh, options.objects);
     case MeshFormat::Off:
       return write_off(path, mesh);
     case MeshFormat::Ply:

@@ -142,8 +142,16 @@ Mesh read_obj(const fs::path& path) {
   return s.to_mesh();
 }
 
-void write_obj(const fs::path& path, const Mesh& mesh) {
+void write_obj(const fs::path& path, const Mesh& mesh,
+               const std::vector<std::pair<std::string, Eigen::Index>>& objects) {
   check_writable(path, mesh);
+  for (size_t k = 0; k < objects.size(); ++k)
+    if (objects[k].second < 0 || objects[k].second >= mesh.F.rows() ||
+        (k > 0 && objects[k].second <= objects[k - 1].second) ||
+        objects[k].first.find_first_of("\n\r") != std::string::npos)
+      throw Error(path.string() + ": object " + std::to_string(k) + " ('" + objects[k].first +
+                  "') has a first face out of order or a line break in its name");
+  size_t next = 0;
   const bool uv = mesh.FUV.rows() > 0;
   std::string out;
   out.reserve(static_cast<std::size_t>(mesh.V.rows() * 60 + mesh.UV.rows() * 40 + mesh.F.rows() * 40 + 100));
@@ -165,6 +173,7 @@ void write_obj(const fs::path& path, const Mesh& mesh) {
     out += '\n';
   }
   for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    if (next < objects.size() && objects[next].second == f) out += "o " + objects[next++].first + '\n';
     out += 'f';
     for (int c = 0; c < 3; ++c) {
       out += ' ';

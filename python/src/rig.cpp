@@ -1,14 +1,17 @@
-// Python bindings of glTF 2.0 rigs (mesh/gltf.hpp, deform/rig_skin.hpp, scene/rig_pose.hpp): read a
-// skinned character, pose it with any skinning blend at any animation time (optionally cleaned up by
-// the pose-keeping cleanup), the glTF formula as the reference, and baked morph-target animations
-// written and read back (the same code as `spinmotor rig pose ... --out x.glb`).
+// Python bindings of glTF 2.0 rigs (mesh/gltf.hpp, deform/gltf_skin.hpp, scene/rig_pose.hpp): read a
+// skinned character (every skinned mesh of it, or those named), pose it with any skinning blend at any
+// animation time (optionally cleaned up by the rig cleanup), the glTF formula as the reference, and baked
+// animations written and read back (the same code as `spinmotor rig pose ... --out x.glb`).
 #include <memory>
 #include <mutex>
 
 #include "common.hpp"
 #include "spinmotor/core/option_names.hpp"
-#include "spinmotor/deform/rig_skin.hpp"
+#include "spinmotor/deform/gltf_correctives.hpp"
+#include "spinmotor/deform/gltf_skin.hpp"
 #include "spinmotor/mesh/gltf.hpp"
+#include "spinmotor/mesh/gltf_rig_writer.hpp"
+#include "spinmotor/mesh/procedural_rig.hpp"
 #include "spinmotor/scene/rig_cleanup.hpp"
 #include "spinmotor/scene/rig_pose.hpp"
 
@@ -18,6 +21,7 @@ namespace {
 
 struct PyRig {
   std::shared_ptr<const GltfRig> rig;
+  std::shared_ptr<const RigSkin> skin;  // rest surface (scene coordinates), bones, bind matrices
   std::unique_ptr<std::mutex> lock = std::make_unique<std::mutex>();
 };
 
@@ -90,20 +94,60 @@ int animation_index(const GltfRig& rig, int animation) {
   return animation;
 }
 
-}  // namespace
+std::vector<double> frame_times(const PyRig& r, int animation, py::object frames, py::object times) {
+  if (frames.is_none() == times.is_none())
+    throw Error("bake: give exactly one of frames (a count) and times (a list of seconds)");
+  if (!times.is_none()) {
+    const Eigen::VectorXd tv = to_vector(times, "times");
+    return {tv.data(), tv.data() + tv.size()};
+  }
+  int k = 0;
+  try {
+    k = frames.cast<int>();
+  } catch (const py::cast_error&) {
+    throw Error("frames: expected an int (the frame count)");
+  }
+  return scene::rig_frame_times(*r.rig, animation, k);
+}
 
-void bind_rig(py::module_& m) {
+py::list pieces_list(const GltfRig& rig) {
+  py::list l;
+  for (const GltfPiece& p : rig.pieces) {
+    py::dict d;
+    d["name"] = p.name;
+    d["node"] = rig.nodes[p.node].name;
+    d["skin"] = rig.skins[p.skin].name;
+    d["first_vertex"] = p.first_vertex;
+    d["vertices"] = p.vertices;
+    d["first_face"] = p.first_face;
+    d["faces"] = p.faces;
+    d["file_vertices"] = p.file_vertices;
+    d["morph_targets"] = p.target_names;
+    l.append(d);
+  }
+  return l;
+}
+
+void bind_rig_class(py::module_& m) {
   py::class_<PyRig>(m, "Rig", R"doc(
-A glTF 2.0 skinned character (mesh/gltf.hpp): the welded surface (vertices with identical positions
-merged, texture coordinates per corner), the joints, the skin weights and the animations.
+A glTF 2.0 skinned character (mesh/gltf.hpp): every skinned mesh of the scene (or those named), welded per
+mesh (texture coordinates per corner), the joints, the skin weights, the morph targets and the animations,
+evaluated as the glTF specification defines skinning (deform/gltf_skin.hpp), in the file's scene
+coordinates (as glTF viewers and Blender show it).
 
-read_gltf(path) -> Rig. Properties: V, F, UV, FUV (the welded surface), joint_names, joint_parents,
-weights (n, J dense), animations (list of (name, start, end) in seconds), renormalised_rows, warnings.
-Errors: spinmotor.Error naming the file and the element (accessor, node, primitive, sampler).
+read_gltf(path, meshes=None) -> Rig. Properties: V (the rest surface in scene coordinates: the bind pose),
+F, UV, FUV, pieces (one dict per mesh: name, node, skin, first_vertex, vertices, first_face, faces,
+file_vertices, morph_targets), joint_names, joint_parents, weights (n, J dense), animations (list of
+(name, start, end) in seconds), renormalised_rows, warnings; vertex_label(i) names a vertex in the file's
+own numbering.
+Errors: spinmotor.Error naming the file and the element (accessor, node, mesh, primitive, sampler).
 )doc")
       .def_property_readonly(
-          "V", [](const PyRig& r) { return to_numpy(r.rig->mesh.V); },
-          "V -> (n, 3): the welded surface's rest positions (mesh space).")
+          "V", [](const PyRig& r) { return to_numpy(r.skin->rest.V); },
+          "V -> (n, 3): the rest surface (the bind pose) in scene coordinates.")
+      .def_property_readonly(
+          "V_file", [](const PyRig& r) { return to_numpy(r.rig->mesh.V); },
+          "V_file -> (n, 3): the welded POSITION values (each mesh's own frame).")
       .def_property_readonly(
           "F", [](const PyRig& r) { return to_numpy(r.rig->mesh.F); }, "F -> (m, 3): the welded triangles.")
       .def_property_readonly(
@@ -119,8 +163,16 @@ Errors: spinmotor.Error naming the file and the element (accessor, node, primiti
           },
           "FUV -> (m, 3) texture coordinate index per corner, or None.")
       .def_property_readonly(
+          "pieces", [](const PyRig& r) { return pieces_list(*r.rig); },
+          "pieces -> list of dict: the skinned meshes read, their vertex and face ranges and morph targets.")
+      .def(
+          "vertex_label", [](const PyRig& r, Eigen::Index v) { return r.rig->vertex_label(v); },
+          py::arg("vertex"),
+          "vertex_label(vertex) -> str: where a surface vertex comes from (\"mesh 'Body' primitive 2 vertex "
+          "17\").")
+      .def_property_readonly(
           "joint_names", [](const PyRig& r) { return r.rig->joint_names; },
-          "joint_names -> list of str: the skin's joints in order.")
+          "joint_names -> list of str: the joints in order.")
       .def_property_readonly(
           "joint_parents", [](const PyRig& r) { return r.rig->joint_parents; },
           "joint_parents -> list of int: each joint's nearest ancestor joint, -1 for a root.")
@@ -140,26 +192,31 @@ Errors: spinmotor.Error naming the file and the element (accessor, node, primiti
             for (const GltfAnimation& a : r.rig->animations) l.append(py::make_tuple(a.name, a.start, a.end));
             return l;
           },
-          "animations -> list of (name, start, end): the animations and their key time ranges in seconds.")
-      .def(
-          "pose",
-          [](PyRig& r, double t, int animation, const std::string& blend) {
-            const GltfRig& rig = *r.rig;
-            const int a = animation_index(rig, animation);
-            const SkinBlend b = parse_option<SkinBlend>(blend, "blend: ");
-            Eigen::MatrixXd V;
-            {
-              py::gil_scoped_release release;
-              std::lock_guard<std::mutex> guard(*r.lock);
-              SkinDeformer d = bind_rig(rig, b);
-              d.pose(rig_pose_motors(rig, a, t), V);
-            }
-            return to_numpy_owned(std::move(V));
-          },
-          py::arg("t"), py::arg("animation") = 0, py::arg("blend") = "lbs", R"doc(
-pose(t, animation=0, blend="lbs") -> V (n, 3, column-major, no copy): the skinned surface at time t (seconds, clamped to the
-animation's range) with blend lbs, dlb, log or pivot-log (SkinDeformer); animation -1 is the rest pose.
-Errors: spinmotor.Error for an animation out of range, an unknown blend, a non-rigid joint transform.
+          "animations -> list of (name, start, end): the animations and their key time ranges in seconds.");
+}
+
+void bind_rig_pose(py::module_& m) {
+  py::class_<PyRig> cls = py::reinterpret_borrow<py::class_<PyRig>>(m.attr("Rig"));
+  cls.def(
+         "pose",
+         [](PyRig& r, double t, int animation, const std::string& blend) {
+           const GltfRig& rig = *r.rig;
+           const int a = animation_index(rig, animation);
+           const SkinBlend b = parse_option<SkinBlend>(blend, "blend: ");
+           Eigen::MatrixXd V;
+           {
+             py::gil_scoped_release release;
+             std::lock_guard<std::mutex> guard(*r.lock);
+             RigSkinner skinner(rig, b);
+             skinner.pose(a, t, V);
+           }
+           return to_numpy_owned(std::move(V));
+         },
+         py::arg("t"), py::arg("animation") = 0, py::arg("blend") = "lbs", R"doc(
+pose(t, animation=0, blend="lbs") -> V (n, 3, column-major, no copy): the skinned surface at time t (seconds,
+clamped to the animation's range) in scene coordinates, morph targets applied, with blend lbs (the glTF
+formula, every influence), dlb, log or pivot-log; animation -1 is the rest pose.
+Errors: spinmotor.Error for an animation out of range, an unknown blend, a mirroring joint transform.
 )doc")
       .def(
           "skin_positions",
@@ -174,38 +231,8 @@ Errors: spinmotor.Error for an animation out of range, an unknown blend, a non-r
             return to_numpy(V);
           },
           py::arg("t"), py::arg("animation") = 0, R"doc(
-skin_positions(t, animation=0) -> V (n, 3): the glTF skinning formula with plain 4×4 matrices and every
-influence (the reference the blends are compared with).
-)doc")
-      .def(
-          "bind_cleanup",
-          [](PyRig& r, double threshold, double margin, double pose_weight, const std::string& keep,
-             int max_iterations) {
-            scene::RigCleanupOptions o;
-            o.pin_threshold = threshold;
-            o.pin_margin = margin;
-            o.pose_weight = pose_weight;
-            o.cleanup.keep = parse_option<CleanupKeep>(keep, "keep: ");
-            o.cleanup.max_iterations = max_iterations;
-            PyCleanup c;
-            py::gil_scoped_release release;
-            const RigSkin skin = rig_skin(*r.rig);
-            scene::RigCleanup rc = scene::RigCleanup::bind(r.rig->mesh, skin.weights, skin.bones, o);
-            c.cleanup = std::make_unique<PinnedCleanup>(std::move(rc.cleanup));
-            return c;
-          },
-          py::arg("threshold") = scene::RigCleanupOptions{}.pin_threshold,
-          py::arg("margin") = scene::RigCleanupOptions{}.pin_margin,
-          py::arg("pose_weight") = scene::RigCleanupOptions{}.pose_weight,
-          py::arg("keep") = std::string(option_name(PinnedCleanupOptions{}.keep)),
-          py::arg("max_iterations") = PinnedCleanupOptions{}.max_iterations, R"doc(
-bind_cleanup(threshold=0.999, margin=-1, pose_weight=10, keep="auto", max_iterations=100) -> PinnedCleanup:
-the pose-keeping cleanup of this rig with the rig defaults (scene/rig_cleanup.hpp, the same as `spinmotor
-rig pose --cleanup pinned`): pins = vertices of one joint (weight >= threshold) farther than `margin`
-(< 0: per bone a quarter of its widest blend band) from every blended vertex; the soft parts held near the
-pose by the weights' attraction of strength pose_weight. Use .cleanup(rig.pose(t)) per frame.
-Errors: spinmotor.Error when no vertex qualifies as a pin, or for bad parameters.
-Errors: spinmotor.Error for an animation out of range or a non-finite t.
+skin_positions(t, animation=0) -> V (n, 3): the glTF specification's skinning with plain 4×4 matrices and
+every influence, in scene coordinates (the reference the blends are compared with).
 )doc")
       .def(
           "poser",
@@ -218,85 +245,97 @@ Errors: spinmotor.Error for an animation out of range or a non-finite t.
           py::arg("animation") = 0, py::arg("blend") = "lbs", py::arg("cleanup") = "none",
           py::arg("pin_threshold") = scene::RigCleanupOptions{}.pin_threshold,
           py::arg("pin_margin") = scene::RigCleanupOptions{}.pin_margin,
-          py::arg("pose_weight") = scene::RigCleanupOptions{}.pose_weight, py::arg("space") = "mesh",
+          py::arg("pose_weight") = scene::RigCleanupOptions{}.pose_weight, py::arg("space") = "scene",
           py::arg("warm_start") = false, R"doc(
 poser(animation=0, blend="lbs", cleanup="none", pin_threshold=0.999, pin_margin=-1, pose_weight=10,
-      space="mesh", warm_start=False)
-  -> RigPoser: the skin (and, with cleanup="pinned", the pose-keeping cleanup) bound once
-  (scene/rig_pose.hpp, as `spinmotor rig pose`), posed per time with RigPoser.pose(t).
+      space="scene", warm_start=False)
+  -> RigPoser: the skin (and, with cleanup="pinned", the rig cleanup) bound once (scene/rig_pose.hpp, as
+  `spinmotor rig pose`), posed per time with RigPoser.pose(t).
 
 Inputs:  animation: index into animations, -1 the rest pose; blend: lbs, dlb, log or pivot-log;
          cleanup: none or pinned (the vertices of one joint with weight >= pin_threshold, farther
          than pin_margin from any blended vertex, stay put; pin_margin < 0: per bone, a quarter of
          the widest blend band of its joints; pose_weight: the attraction holding the soft parts near the
-         skinned pose, scene/rig_cleanup.hpp); space: mesh (the file's POSITION frame) or scene (the
-         mesh node's global matrix applied); warm_start: cleanup="pinned" for times posed in order,
-         each cleanup starts from the previous one's correction (faster; depends on the call order).
+         skinned pose; every connected piece on its own, scene/rig_cleanup.hpp); space: scene (the file's
+         scene) or mesh (each mesh's POSITION frame); warm_start: cleanup="pinned" for times posed in
+         order, each cleanup starts from the previous one's correction.
 Output:  a RigPoser.
 Errors:  spinmotor.Error for an unknown name (listing the valid ones), an animation out of range, a
-         pin_threshold outside [0.5, 1], no pin found, a skeleton or mesh the deformers refuse.
-)doc")
-      .def(
-          "bake",
-          [](const PyRig& r, const std::filesystem::path& path, py::object frames, py::object times,
-             int animation, const std::string& blend, const std::string& cleanup, double pin_threshold,
-             double pin_margin, double pose_weight, const std::string& space, py::object name,
-             bool warm_start) {
-            if (frames.is_none() == times.is_none())
-              throw Error("bake: give exactly one of frames (a count) and times (a list of seconds)");
-            const scene::RigPoseOptions o = pose_options(animation, blend, cleanup, pin_threshold, pin_margin,
-                                                         pose_weight, space, warm_start);
-            std::vector<double> t;
-            if (!times.is_none()) {
-              const Eigen::VectorXd tv = to_vector(times, "times");
-              t.assign(tv.data(), tv.data() + tv.size());
-            } else {
-              int k = 0;
-              try {
-                k = frames.cast<int>();
-              } catch (const py::cast_error&) {
-                throw Error("frames: expected an int (the frame count)");
-              }
-              t = scene::rig_frame_times(*r.rig, animation, k);
-            }
-            const std::string nm = name.is_none() ? path.stem().string() : py::str(name).cast<std::string>();
-            PyRigPoser p = make_poser(r, o);
-            std::vector<Eigen::MatrixXd> written;
-            {
-              py::gil_scoped_release release;
-              written = scene::bake_rig_gltf(path, *p.poser, t, nm);
-            }
-            py::dict d;
-            d["frames"] = stack(written);
-            d["times"] = t;
-            return d;
-          },
-          py::arg("path"), py::arg("frames") = py::none(), py::arg("times") = py::none(),
-          py::arg("animation") = 0, py::arg("blend") = "lbs", py::arg("cleanup") = "none",
-          py::arg("pin_threshold") = scene::RigCleanupOptions{}.pin_threshold,
-          py::arg("pin_margin") = scene::RigCleanupOptions{}.pin_margin,
-          py::arg("pose_weight") = scene::RigCleanupOptions{}.pose_weight, py::arg("space") = "mesh",
-          py::arg("name") = py::none(), py::arg("warm_start") = true, R"doc(
-bake(path, frames=None, times=None, animation=0, blend="lbs", cleanup="none", pin_threshold=0.999,
-     pin_margin=-1, pose_weight=10, space="mesh", name=None, warm_start=True)
-  -> dict(frames (k, n, 3), times (k,))
+         pin_threshold outside [0.5, 1], a skeleton or mesh the deformers refuse.
+)doc");
+}
 
-Poses the rig (as poser() with the same options) and writes the frames as a glTF 2.0 morph-target
-animation (.gltf or .glb; positions as float32; a STEP weights animation plays them; Blender shows shape
-keys): what `spinmotor rig pose FILE --frames N --out path.glb` writes. With space="scene" the node
-carries the mesh node's rest global matrix. Read it back with read_gltf_morph_animation(path).
+void bind_rig_bake(py::module_& m) {
+  py::class_<PyRig> cls = py::reinterpret_borrow<py::class_<PyRig>>(m.attr("Rig"));
+  cls.def(
+      "bake",
+      [](const PyRig& r, const std::filesystem::path& path, py::object frames, py::object times,
+         int animation, const std::string& blend, const std::string& cleanup, double pin_threshold,
+         double pin_margin, double pose_weight, const std::string& space, py::object name, bool warm_start,
+         const std::string& mode, double max_error) {
+        const scene::RigPoseOptions o = pose_options(animation, blend, cleanup, pin_threshold, pin_margin,
+                                                     pose_weight, space, warm_start);
+        if (mode != "frames" && mode != "correctives")
+          throw Error("mode: '" + mode + "' (frames or correctives)");
+        const std::vector<double> t = frame_times(r, animation, frames, times);
+        const std::string nm = name.is_none() ? path.stem().string() : py::str(name).cast<std::string>();
+        PyRigPoser p = make_poser(r, o);
+        std::vector<Eigen::MatrixXd> written;
+        py::dict d;
+        {
+          py::gil_scoped_release release;
+          if (mode == "frames") {
+            written = scene::bake_rig_gltf(path, *p.poser, t, nm);
+          } else {
+            if (o.space != scene::RigSpace::Scene) throw Error("mode=\"correctives\" is in scene space");
+            for (double tf : t) written.push_back(p.poser->pose_scene(tf));
+            CorrectiveOptions co;
+            co.max_error = max_error;
+            const CorrectiveRig cr = corrective_rig(*r.rig, animation, t, written, co);
+            write_gltf_rig(path, cr.rig);
+            py::gil_scoped_acquire acquire;
+            d["targets"] = cr.targets;
+            d["max_error"] = cr.max_error;
+            d["rms_error"] = cr.rms_error;
+            d["bound_met"] = cr.bound_met;
+          }
+        }
+        d["frames"] = stack(written);
+        d["times"] = t;
+        return d;
+      },
+      py::arg("path"), py::arg("frames") = py::none(), py::arg("times") = py::none(),
+      py::arg("animation") = 0, py::arg("blend") = "lbs", py::arg("cleanup") = "none",
+      py::arg("pin_threshold") = scene::RigCleanupOptions{}.pin_threshold,
+      py::arg("pin_margin") = scene::RigCleanupOptions{}.pin_margin,
+      py::arg("pose_weight") = scene::RigCleanupOptions{}.pose_weight, py::arg("space") = "scene",
+      py::arg("name") = py::none(), py::arg("warm_start") = true, py::arg("mode") = "frames",
+      py::arg("max_error") = CorrectiveOptions{}.max_error, R"doc(
+bake(path, frames=None, times=None, animation=0, blend="lbs", cleanup="none", pin_threshold=0.999,
+     pin_margin=-1, pose_weight=10, space="scene", name=None, warm_start=True, mode="frames", max_error=1e-3)
+  -> dict(frames (k, n, 3), times (k,)[, targets, max_error, rms_error, bound_met])
+
+Poses the rig (as poser() with the same options) and writes a .gltf/.glb:
+  mode="frames": every frame as a morph target, one node per mesh, played by a STEP weights animation
+  (Blender shows shape keys): what `spinmotor rig pose FILE --frames N --out path.glb` writes;
+  mode="correctives": the rig itself with a few corrective morph targets per mesh and their weights
+  animation, reproducing the posed frames to max_error of the diagonal on any engine that plays skinning
+  and morph targets (deform/gltf_correctives.hpp; `--bake correctives`).
 Inputs:  path (.gltf or .glb); exactly one of frames (count, spread evenly over the animation) and
          times (strictly increasing seconds); the poser options; name: the mesh and animation name
-         (default: the file's stem); warm_start: the frames' cleanups start from the previous
-         frame's correction (as `rig pose --frames`; False: each from its skinned pose alone).
-Output:  dict with frames (k, n, 3, mesh space, before float32 rounding) and times.
+         (default: the file's stem).
+Output:  dict with frames (k, n, 3, in the poser's space, before float32 rounding) and times; with
+         mode="correctives" also the targets per mesh and the achieved max_error / rms_error.
 Errors:  spinmotor.Error as poser(), for a bad path extension, non-increasing times; nothing is
          written then (the file is replaced atomically).
 )doc");
+}
 
+void bind_rig_poser(py::module_& m) {
   py::class_<PyRigPoser>(m, "RigPoser", R"doc(
 A glTF rig bound for posing (scene/rig_pose.hpp): made by Rig.poser(...). pose(t) -> V (n, 3).
-Properties: pins (the pinned vertices with cleanup="pinned", else empty), pin_margins (per bone).
+Properties: pins (the pinned vertices with cleanup="pinned", else empty), pin_margins (per bone),
+last_cleanup (the last frame's cleanup figures), pieces (the cleanup's pieces).
 )doc")
       .def(
           "pose",
@@ -312,33 +351,59 @@ Properties: pins (the pinned vertices with cleanup="pinned", else empty), pin_ma
           py::arg("t"), R"doc(
 pose(t) -> V (n, 3, column-major, no copy): the skinned surface at time t (seconds, clamped to the animation's range),
 cleaned up if the poser was made with cleanup="pinned", in the poser's space. No bind per call.
-Errors: spinmotor.Error for a non-finite t or a non-rigid joint transform.
+Errors: spinmotor.Error for a non-finite t or a mirroring joint transform.
 )doc")
       .def_property_readonly(
           "pins",
           [](const PyRigPoser& p) {
-            const Eigen::VectorXi& v = p.poser->pins();
+            if (!p.poser->cleanup()) return std::vector<int>();
+            const Eigen::VectorXi& v = p.poser->cleanup()->pins();
             return std::vector<int>(v.data(), v.data() + v.size());
           },
           "pins -> list of int: the vertices the cleanup keeps in place (sorted; empty without cleanup).")
       .def_property_readonly(
-          "pin_margins", [](const PyRigPoser& p) { return to_numpy(p.poser->pin_margins()); },
-          "pin_margins -> (J,) array: the margin used per bone (empty without cleanup).");
+          "pin_margins",
+          [](const PyRigPoser& p) {
+            return to_numpy(p.poser->cleanup() ? p.poser->cleanup()->margins() : Eigen::VectorXd());
+          },
+          "pin_margins -> (J,) array: the margin used per bone (empty without cleanup).")
+      .def_property_readonly(
+          "last_cleanup",
+          [](const PyRigPoser& p) -> py::object {
+            if (!p.poser->cleanup()) return py::none();
+            const scene::RigCleanupResult& r = p.poser->last_cleanup();
+            py::dict d;
+            d["iterations"] = r.iterations;
+            d["converged"] = r.converged;
+            d["volume_ratio"] = r.volume_ratio;
+            d["edit_volume_ratio"] = r.edit_volume_ratio;
+            d["pin_error"] = r.pin_error;
+            d["total_ms"] = r.total_ms;
+            return d;
+          },
+          "last_cleanup -> dict or None: iterations, converged, volume_ratio, edit_volume_ratio, pin_error, "
+          "total_ms of the last pose's cleanup.");
+}
+
+void bind_gltf_files(py::module_& m) {
   m.def(
       "read_gltf",
-      [](const std::filesystem::path& path) {
+      [](const std::filesystem::path& path, py::object meshes) {
+        GltfReadOptions o;
+        if (!meshes.is_none()) o.meshes = meshes.cast<std::vector<std::string>>();
         PyRig r;
         py::gil_scoped_release release;
-        r.rig = std::make_shared<const GltfRig>(spinmotor::read_gltf(path));
+        r.rig = std::make_shared<const GltfRig>(spinmotor::read_gltf(path, o));
+        r.skin = std::make_shared<const RigSkin>(rig_skin(*r.rig));
         return r;
       },
-      py::arg("path"), R"doc(
-read_gltf(path) -> Rig: a .gltf (data: URIs or side .bin) or .glb skinned character.
-Input: path. Output: a Rig (the welded surface, joints, weights, animations).
+      py::arg("path"), py::arg("meshes") = py::none(), R"doc(
+read_gltf(path, meshes=None) -> Rig: a .gltf (data: URIs or side .bin) or .glb skinned character.
+Input: path; meshes: node or mesh names to read (None: every skinned mesh of the scene).
+Output: a Rig (the welded surface of every mesh read, joints, weights, morph targets, animations).
 Errors: spinmotor.Error naming the file and the element; a file without a skinned mesh (e.g. a baked
-animation: read it with read_gltf_morph_animation) is an error.
+animation: read it with read_gltf_morph_animation) or a mesh name that does not exist is an error.
 )doc");
-
   m.def(
       "write_gltf_morph_animation",
       [](const std::filesystem::path& path, py::object V, py::object F, py::object frames, py::object times,
@@ -374,7 +439,6 @@ Output:  None; the file is written atomically (positions stored as float32).
 Errors:  spinmotor.Error for a bad shape, non-finite value, non-increasing times, a non-affine node
          matrix, a bad extension; nothing is written then.
 )doc");
-
   m.def(
       "read_gltf_morph_animation",
       [](const std::filesystem::path& path) {
@@ -392,20 +456,132 @@ Errors:  spinmotor.Error for a bad shape, non-finite value, non-increasing times
         d["times"] = a.times;
         d["node_matrix"] = to_numpy(Eigen::MatrixXd(a.node_matrix));
         d["name"] = a.name;
+        py::list pieces;
+        for (const GltfMorphPiece& p : a.pieces)
+          pieces.append(py::make_tuple(p.name, p.first_vertex, p.vertices));
+        d["pieces"] = pieces;
         return d;
       },
       py::arg("path"), R"doc(
-read_gltf_morph_animation(path) -> dict: a baked animation read back (Rig.bake,
-write_gltf_morph_animation, `spinmotor rig pose ... --out x.glb`, or any glTF whose first mesh node has
-POSITION morph targets).
+read_gltf_morph_animation(path) -> dict: a baked animation read back (Rig.bake, write_gltf_morph_animation,
+`spinmotor rig pose ... --out x.glb`, or any glTF whose mesh nodes carry POSITION morph targets).
 
 Input:   path (.gltf or .glb).
-Output:  dict with V (n, 3) and F (m, 3): the base surface, equal positions welded (the vertex order
-         of the mesh that was written); UV, FUV (or None); frames (k, n, 3): base + each target;
-         times (k,): each target's key time in the weights animation; node_matrix (4, 4): the node's
-         global matrix; name.
+Output:  dict with V (n, 3) and F (m, 3): the base surface of every morph mesh, equal positions welded per
+         mesh (the vertex order that was written); UV, FUV (or None); frames (k, n, 3): base + each
+         target; times (k,): each target's key time in the weights animation; node_matrix (4, 4): the
+         first mesh node's global matrix; name; pieces: (name, first_vertex, vertices) per mesh.
 Errors:  spinmotor.Error naming the file and the element (no morph targets, a bad accessor, ...).
 )doc");
+}
+
+void bind_procedural_rigs(py::module_& m) {
+  const CharacterRigOptions cdef;
+  m.def(
+      "write_character_rig",
+      [](const std::filesystem::path& path, const std::string& layout, double armature_scale,
+         bool mesh_node_offset, bool morph_targets, bool scale_animation, double walk_degrees,
+         int resolution) {
+        CharacterRigOptions o;
+        if (layout == "scene")
+          o.layout = CharacterLayout::Scene;
+        else if (layout == "mixamo")
+          o.layout = CharacterLayout::Mixamo;
+        else if (layout == "armature")
+          o.layout = CharacterLayout::Armature;
+        else
+          throw Error("layout: '" + layout + "' (scene, mixamo or armature)");
+        o.armature_scale = armature_scale;
+        o.mesh_node_offset = mesh_node_offset;
+        o.morph_targets = morph_targets;
+        o.scale_animation = scale_animation;
+        o.walk_degrees = walk_degrees;
+        o.resolution = resolution;
+        py::gil_scoped_release release;
+        write_gltf_rig(path, character_rig(o));
+      },
+      py::arg("path"), py::arg("layout") = "scene", py::arg("armature_scale") = cdef.armature_scale,
+      py::arg("mesh_node_offset") = cdef.mesh_node_offset, py::arg("morph_targets") = cdef.morph_targets,
+      py::arg("scale_animation") = cdef.scale_animation, py::arg("walk_degrees") = cdef.walk_degrees,
+      py::arg("resolution") = cdef.resolution, R"doc(
+write_character_rig(path, layout="scene", armature_scale=0.01, mesh_node_offset=False, morph_targets=True,
+                    scale_animation=True, walk_degrees=35, resolution=1) -> None
+  Writes the project's procedural standing character (mesh/procedural_rig.hpp: seven separate meshes on one
+  skin, morph targets on the head, animations "walk" and "squash") as .gltf/.glb, in the layout production
+  files come in: scene (joints and meshes at the root), mixamo (a scaled, turned armature above
+  centimetre joints, POSITION in scene units), armature (POSITION in the armature's own units);
+  mesh_node_offset puts a transform on every skinned node (which glTF ignores).
+Errors: spinmotor.Error for a bad layout or parameter, or a bad path extension.
+)doc");
+  m.def(
+      "write_limb_rig",
+      [](const std::filesystem::path& path, double radius, double length, int rings, int sides, int joints,
+         double blend, double bend_degrees, double twist_degrees) {
+        LimbRigOptions o{radius, length, rings, sides, joints, blend, bend_degrees, twist_degrees};
+        py::gil_scoped_release release;
+        write_gltf_rig(path, limb_rig(o));
+      },
+      py::arg("path"), py::arg("radius") = LimbRigOptions{}.radius,
+      py::arg("length") = LimbRigOptions{}.length, py::arg("rings") = LimbRigOptions{}.rings,
+      py::arg("sides") = LimbRigOptions{}.sides, py::arg("joints") = LimbRigOptions{}.joints,
+      py::arg("blend") = LimbRigOptions{}.blend, py::arg("bend_degrees") = LimbRigOptions{}.bend_degrees,
+      py::arg("twist_degrees") = LimbRigOptions{}.twist_degrees,
+      R"doc(
+write_limb_rig(path, radius=0.5, length=4, rings=96, sides=48, joints=3, blend=0.5, bend_degrees=60,
+               twist_degrees=90) -> None: the procedural capsule limb (mesh/procedural_rig.hpp) as .gltf/.glb.
+Errors: spinmotor.Error naming a bad parameter, or for a bad path extension.
+)doc");
+}
+
+}  // namespace
+
+void bind_rig_cleanup(py::module_& m);
+py::object make_rig_cleanup(const Mesh& rest, const Eigen::SparseMatrix<double>& W,
+                            const std::vector<Bone>& bones, const scene::RigCleanupOptions& o,
+                            const scene::RigCleanup::VertexLabel& label);
+
+namespace {
+
+void bind_rig_bind_cleanup(py::module_& m) {
+  py::class_<PyRig> cls = py::reinterpret_borrow<py::class_<PyRig>>(m.attr("Rig"));
+  const scene::RigCleanupOptions def;
+  cls.def(
+      "bind_cleanup",
+      [](const PyRig& r, double threshold, double margin, double pose_weight, const std::string& keep,
+         int max_iterations, bool warm_start) {
+        scene::RigCleanupOptions o;
+        o.pin_threshold = threshold;
+        o.pin_margin = margin;
+        o.pose_weight = pose_weight;
+        o.cleanup.keep = parse_option<CleanupKeep>(keep, "keep: ");
+        o.cleanup.max_iterations = max_iterations;
+        o.cleanup.warm_start = warm_start;
+        const std::shared_ptr<const GltfRig> rig = r.rig;
+        return make_rig_cleanup(r.skin->rest, r.skin->weights, r.skin->bones, o,
+                                [rig](Eigen::Index v) { return rig->vertex_label(v); });
+      },
+      py::arg("threshold") = def.pin_threshold, py::arg("margin") = def.pin_margin,
+      py::arg("pose_weight") = def.pose_weight, py::arg("keep") = std::string(option_name(def.cleanup.keep)),
+      py::arg("max_iterations") = def.cleanup.max_iterations, py::arg("warm_start") = def.cleanup.warm_start,
+      R"doc(
+bind_cleanup(threshold=0.999, margin=-1, pose_weight=10, keep="auto", max_iterations=100, warm_start=False)
+  -> RigCleanup: the rig cleanup of this rig's rest surface (scene coordinates) with the rig defaults (the
+  same as `spinmotor rig pose --cleanup pinned`). Use .cleanup(rig.pose(t)) per frame.
+Errors: spinmotor.Error for bad parameters.
+)doc");
+}
+
+}  // namespace
+
+void bind_rig(py::module_& m) {
+  bind_rig_class(m);
+  bind_rig_pose(m);
+  bind_rig_bake(m);
+  bind_rig_poser(m);
+  bind_gltf_files(m);
+  bind_rig_cleanup(m);
+  bind_rig_bind_cleanup(m);
+  bind_procedural_rigs(m);
 }
 
 }  // namespace spinmotor::python

@@ -164,11 +164,10 @@ def test_rig_pose_matches_the_cli(tmp_path, rigs_dir):
     rig = sm.read_gltf(path)
     _, start, end = rig.animations[0]
     t = start + 0.37 * (end - start)
-    rc, text = run("rig", "pose", path, "--time", repr(t), "--blend", "dlb", "--space", "mesh", "--out",
-                   tmp_path / "dlb.obj")
+    rc, text = run("rig", "pose", path, "--time", repr(t), "--blend", "dlb", "--out", tmp_path / "dlb.obj")
     assert rc == 0, text
     cli = sm.read_mesh(tmp_path / "dlb.obj")[0]
-    mine = rig.pose(t, blend="dlb")
+    mine = rig.pose(t, blend="dlb")  # both in the file's scene coordinates
     assert np.abs(mine - cli).max() <= 1e-12 * diag(mine)
     assert np.array_equal(rig.poser(blend="dlb").pose(t), mine)
     for gamma in (None, 3.0):  # the default pose attraction (scene/rig_cleanup.hpp) and another one

@@ -103,19 +103,23 @@ def bent(tmp_path):
 def test_bake_reads_back_to_float32(tmp_path, bent):
     path, P, F = bent
     rig = sm.read_gltf(path)
-    assert np.array_equal(rig.V, P) and np.array_equal(rig.F, F)
+    assert np.array_equal(rig.V_file, P) and np.array_equal(rig.F, F)
+    np.testing.assert_allclose(rig.V, P + [1, 2, 3], rtol=0, atol=1e-15)  # the scene: the root's translation
     assert rig.animations == [("bend", 0.0, 1.0)]
-    out = rig.bake(tmp_path / "baked.glb", frames=5, blend="dlb")
+    assert [p["name"] for p in rig.pieces] == ["body"]
+    out = rig.bake(tmp_path / "baked.glb", frames=5, blend="dlb", space="mesh")
     assert out["times"] == [0.0, 0.25, 0.5, 0.75, 1.0]
     back = sm.read_gltf_morph_animation(tmp_path / "baked.glb")
-    assert back["name"] == "baked" and back["times"] == out["times"]
+    assert back["name"] == "body" and back["times"] == out["times"]  # one mesh per piece
     assert np.array_equal(back["F"], F) and np.array_equal(back["V"], P)  # rest: float32 exactly
-    assert np.array_equal(back["node_matrix"], np.eye(4))  # space "mesh"
+    expected = np.eye(4)
+    expected[:3, 3] = [1, 2, 3]  # space "mesh": the bind matrix on the root node
+    assert np.array_equal(back["node_matrix"], expected)
     frames = back["frames"]
     assert frames.shape == (5, len(P), 3)
     d = diag(P)
     assert np.abs(frames - out["frames"]).max() <= F32 * d
-    poser = rig.poser(blend="dlb")
+    poser = rig.poser(blend="dlb", space="mesh")
     for k, t in enumerate(out["times"]):
         assert np.array_equal(out["frames"][k], poser.pose(t))  # the baker poses with the poser
     # independent figure: the knee's end (z = 2.3 at rest, 1.3 above the knee) turns 90 deg about x at
@@ -131,11 +135,9 @@ def test_bake_in_scene_space_with_cleanup_and_times(tmp_path, bent):
     times = [0.1, 0.6, 0.9]
     out = rig.bake(tmp_path / "clean.gltf", times=times, cleanup="pinned", space="scene", name="walk")
     back = sm.read_gltf_morph_animation(tmp_path / "clean.gltf")
-    assert back["name"] == "walk" and back["times"] == pytest.approx(times, rel=F32)
-    expected = np.eye(4)
-    expected[:3, 3] = [1, 2, 3]  # the mesh node's rest global matrix (the root's translation)
-    assert np.array_equal(back["node_matrix"], expected)
-    poser = rig.poser(cleanup="pinned", warm_start=True)  # mesh space: what a baked file stores
+    assert back["name"] == "body" and back["times"] == pytest.approx(times, rel=F32)
+    assert np.array_equal(back["node_matrix"], np.eye(4))  # scene coordinates: nothing to place
+    poser = rig.poser(cleanup="pinned", warm_start=True)  # scene space, as the bake
     cold = rig.bake(tmp_path / "cold.gltf", times=times, cleanup="pinned", warm_start=False)
     cold_poser = rig.poser(cleanup="pinned")
     assert 0 < len(poser.pins) < len(P)
@@ -147,9 +149,9 @@ def test_bake_in_scene_space_with_cleanup_and_times(tmp_path, bent):
             assert np.array_equal(cold["frames"][k], mine)  # nothing to carry yet
         assert np.abs(back["frames"][k] - mine).max() <= F32 * diag(P)
         assert np.array_equal(mine[poser.pins], rig.pose(t)[poser.pins])  # pins stay where the skin put them
-    # scene space positions are the mesh space ones moved by the node matrix (a fresh poser: cold)
-    np.testing.assert_allclose(rig.poser(cleanup="pinned", space="scene").pose(0.6),
-                               cold["frames"][1] + [1, 2, 3], rtol=0, atol=1e-12)
+    # mesh space positions are the scene ones moved back by the bind matrix (a fresh poser: cold)
+    np.testing.assert_allclose(rig.poser(cleanup="pinned", space="mesh").pose(0.6) + [1, 2, 3],
+                               cold["frames"][1], rtol=0, atol=1e-12)
 
 
 @pytest.mark.skipif(not os.path.isfile(CLI), reason="SPINMOTOR_CLI (the spinmotor binary) not set")
@@ -158,20 +160,20 @@ def test_bake_matches_the_cli(tmp_path, bent):
     r = subprocess.run([CLI, "rig", "pose", str(path), "--frames", "4", "--blend", "pivot-log", "--space",
                         "mesh", "--out", str(tmp_path / "cli.glb")], capture_output=True, text=True, timeout=60)
     assert r.returncode == 0, r.stdout + r.stderr
-    sm.read_gltf(path).bake(tmp_path / "py.glb", frames=4, blend="pivot-log", name="cli")
+    sm.read_gltf(path).bake(tmp_path / "py.glb", frames=4, blend="pivot-log", space="mesh", name="cli")
     a = sm.read_gltf_morph_animation(tmp_path / "cli.glb")
     b = sm.read_gltf_morph_animation(tmp_path / "py.glb")
     for k in ("V", "F", "frames", "node_matrix"):
         assert np.array_equal(a[k], b[k]), k
-    assert a["times"] == b["times"] and a["name"] == b["name"] == "cli"
+    assert a["times"] == b["times"] and a["pieces"] == b["pieces"]
 
 
 def test_bake_cesium_man(tmp_path, rigs_dir):
     rig = sm.read_gltf(os.path.join(rigs_dir, "CesiumMan.gltf"))
-    out = rig.bake(tmp_path / "man.glb", frames=3, blend="dlb")
+    out = rig.bake(tmp_path / "man.glb", frames=3, blend="dlb", space="mesh")
     back = sm.read_gltf_morph_animation(tmp_path / "man.glb")
     d = diag(rig.V)
-    assert np.array_equal(back["F"], rig.F) and np.array_equal(back["V"], rig.V)
+    assert np.array_equal(back["F"], rig.F) and np.array_equal(back["V"], rig.V_file)
     assert np.abs(back["frames"] - out["frames"]).max() <= F32 * d
     np.testing.assert_allclose(back["UV"][back["FUV"]], rig.UV[rig.FUV], atol=1e-7)  # per corner
 
@@ -207,7 +209,8 @@ def test_bake_errors_write_nothing(tmp_path, bent):
         (dict(frames=3, space="world"), "one of: mesh, scene"),
         (dict(frames=3, animation=1), "out of range"),
         (dict(frames=3, cleanup="pinned", pin_threshold=0.2), "outside [0.5, 1]"),
-        (dict(frames=3, cleanup="pinned", pose_weight=-1.0), "pose_weight must be a finite number"),
+        (dict(frames=3, cleanup="pinned", pose_weight=-1.0), "pose weight must be a finite number"),
+        (dict(frames=3, mode="sideways"), "frames or correctives"),
     ]
     for kwargs, message in cases:
         with pytest.raises(sm.Error, match=message.replace("[", r"\[").replace("(", r"\(")):

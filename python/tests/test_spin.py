@@ -296,5 +296,10 @@ def test_rig_bind_cleanup_is_the_cli_default(meshes_dir):
     a = sm.pin_attraction_from_weights(rig.weights)
     by_hand = sm.PinnedCleanup(rig.V, rig.F, cleanup.pins, pose_weight=10.0, attraction=a).cleanup(E)
     assert np.array_equal(by_hand, V)
-    with pytest.raises(sm.Error, match="no vertex"):
-        rig.bind_cleanup(margin=1e3)
+    # A margin wider than the man pins nothing: the attraction alone anchors him (never an abort), and
+    # without it he is kept as skinned.
+    held = rig.bind_cleanup(margin=1e3)
+    assert len(held.pins) == 0 and [p["status"] for p in held.pieces] == ["cleaned"]
+    loose = rig.bind_cleanup(margin=1e3, pose_weight=0)
+    assert [p["status"] for p in loose.pieces] == ["unanchored"]
+    assert np.array_equal(loose.cleanup(E), E)

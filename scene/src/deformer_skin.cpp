@@ -7,13 +7,15 @@
 // Weight files (relative to the scene file): "*.json" is docs/scene.md's {"bones": [names], "weights": [[w
 // per bone] per vertex]} (errors name the file and the JSON pointer); any other extension is the text format
 // of read_skin_weights (errors name file:line).
+#include <Eigen/SVD>
 #include <fstream>
 #include <map>
+#include <sstream>
 
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/deform/delta_mush.hpp"
 #include "spinmotor/deform/direct_delta_mush.hpp"
-#include "spinmotor/deform/rig_skin.hpp"
+#include "spinmotor/deform/gltf_skin.hpp"
 #include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/scene/deformer_registry.hpp"
 
@@ -88,6 +90,24 @@ nlohmann::json rig_report(const Scene& s) {
   return {{"rig", r}};
 }
 
+/// The motor of a rig's pose transform. Scene files pose bones with motors: a joint transform that scales
+/// (by more than exporters' float noise) is an error naming the joint and the time.
+ga::Mot rigid_joint_motor(const SkinDeformer::Affine& T, const std::string& bone, double t) {
+  const Eigen::Matrix3d L = T.leftCols<3>();
+  if (!T.allFinite() || (L.transpose() * L - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-4 ||
+      !(L.determinant() > 0)) {
+    std::ostringstream s;
+    s << "joint '" << bone << "' scales or shears at t = " << t
+      << ": a scene's skin poses bones with rigid motions (`spinmotor rig pose` skins such rigs)";
+    throw Error(s.str());
+  }
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(L, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
+  M.linear() = svd.matrixU() * svd.matrixV().transpose();
+  M.translation() = T.col(3);
+  return ga::normalize(ga::from_isometry(M));
+}
+
 /// The skeleton of a scene file's `skeleton` block.
 std::vector<Bone> scene_bones(const Scene& s) {
   if (!s.doc.contains("skeleton")) throw s.error("/skeleton", "the skin deformer needs a skeleton");
@@ -126,13 +146,8 @@ std::unique_ptr<SceneDeformer> bind_skin(const Scene& s) {
   std::vector<Bone> bones;
   Eigen::MatrixXd rig_weights;
   if (s.rig) {
-    try {
-      RigSkin rs = rig_skin(*s.rig->gltf);
-      bones = std::move(rs.bones);
-      rig_weights = Eigen::MatrixXd(rs.weights);
-    } catch (const Error& e) {
-      throw s.error("/rig/gltf", e.what());
-    }
+    bones = s.rig->skin->bones;
+    rig_weights = Eigen::MatrixXd(s.rig->skin->weights);
   } else {
     bones = scene_bones(s);
   }
@@ -152,11 +167,12 @@ std::unique_ptr<SceneDeformer> bind_skin(const Scene& s) {
                                       : read_skin_weights(path, bones, s.mesh.V.rows());
     }
     // A pose entry is the world motion of its bone; a bone without one keeps its parent's. A rig's
-    // frame is the animation at pose.time (the skinning transforms, rig_skin.hpp) with those motions
-    // applied on top: bone j moves by E_j S_j(t).
+    // frame is the animation at pose.time (the pose transforms T_j(t), gltf_skin.hpp) with those motions
+    // applied on top: bone j moves by E_j T_j(t).
     std::shared_ptr<const GltfRig> gltf = s.rig ? s.rig->gltf : nullptr;
+    std::shared_ptr<const RigSkin> skin = s.rig ? s.rig->skin : nullptr;
     const int anim = s.rig ? s.rig->animation : -1;
-    auto motors = [bones, gltf, anim](const Pose& pose, std::vector<ga::Mot>& out) {
+    auto motors = [bones, gltf, skin, anim](const Pose& pose, std::vector<ga::Mot>& out) {
       std::vector<ga::Mot> given(bones.size(), ga::Mot(1, 0, 0, 0, 0, 0, 0, 0));
       std::vector<bool> has(bones.size(), false);
       for (std::size_t j = 0; j < bones.size(); ++j)
@@ -164,8 +180,9 @@ std::unique_ptr<SceneDeformer> bind_skin(const Scene& s) {
           given[j] = it->second, has[j] = true;
       out = inherit_bone_motions(bones, given, has);
       if (gltf && pose.time) {
-        const std::vector<ga::Mot> S = rig_pose_motors(*gltf, anim, *pose.time);
-        for (std::size_t j = 0; j < bones.size(); ++j) out[j] = ga::normalize(out[j] * S[j]);
+        const std::vector<SkinDeformer::Affine> T = rig_joint_transforms(*gltf, *skin, anim, *pose.time);
+        for (std::size_t j = 0; j < bones.size(); ++j)
+          out[j] = ga::normalize(out[j] * rigid_joint_motor(T[j], bones[j].name, *pose.time));
       }
     };
     SkinBinding binding{bones, W};

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "spinmotor/core/error.hpp"
-#include "spinmotor/deform/rig_skin.hpp"
+#include "spinmotor/deform/gltf_animation.hpp"
 
 namespace spinmotor::scene {
 
@@ -18,43 +18,62 @@ const RigPoseOptions& checked(const GltfRig& rig, const RigPoseOptions& o) {
   (void)option_name(o.blend);  // an enum value outside the table (cast from an integer) throws
   (void)option_name(o.cleanup);
   (void)option_name(o.space);
-  if (o.cleanup == RigCleanupMode::Pinned) {
-    const RigCleanupOptions& c = o.cleanup_options;
-    if (!(c.pin_threshold >= 0.5 && c.pin_threshold <= 1.0))
-      throw Error("rig: pin threshold " + std::to_string(c.pin_threshold) + " outside [0.5, 1]");
-    if (!std::isfinite(c.pin_margin)) throw Error("rig: pin margin is not finite");
-  }
   return o;
 }
 
 }  // namespace
 
 RigPoser::RigPoser(const GltfRig& rig, const RigPoseOptions& options)
-    : rig_(rig), options_(checked(rig, options)), skin_(bind_rig(rig, options.blend)) {
+    : rig_(rig), options_(checked(rig, options)), skinner_(rig, options.blend) {
   if (options_.cleanup == RigCleanupMode::None) return;
-  const RigSkin skin = rig_skin(rig);
-  cleanup_.emplace(RigCleanup::bind(rig.mesh, skin.weights, skin.bones, options_.cleanup_options));
-  pins_ = cleanup_->pins;
-  margins_ = cleanup_->margins;
+  const RigSkin& s = skinner_.skin();
+  cleanup_.emplace(RigCleanup::bind(s.rest, s.weights, s.bones, options_.cleanup_options,
+                                    [&rig](Eigen::Index v) { return rig.vertex_label(v); }));
 }
 
-Eigen::MatrixXd RigPoser::pose_mesh_space(double t) {
+void RigPoser::skin(double t, Eigen::MatrixXd& V_out) {
   if (!std::isfinite(t)) throw Error("rig: time " + std::to_string(t) + " is not finite");
+  skinner_.pose(options_.animation, t, V_out);
+}
+
+Eigen::MatrixXd RigPoser::clean(const Eigen::MatrixXd& skinned) {
+  if (!cleanup_) return skinned;
   Eigen::MatrixXd V;
-  skin_.pose(rig_pose_motors(rig_, options_.animation, t), V);
-  if (cleanup_) {
-    (void)(*cleanup_)(V, scratch_);
-    V.swap(scratch_);
-  }
+  last_ = (*cleanup_)(skinned, V);
   return V;
 }
 
-Eigen::MatrixXd RigPoser::pose(double t) {
-  Eigen::MatrixXd V = pose_mesh_space(t);
-  if (options_.space == RigSpace::Scene) {
-    const Eigen::Matrix4d w = node_world_matrices(rig_, options_.animation, t)[rig_.mesh_node];
-    V = ((V * w.topLeftCorner<3, 3>().transpose()).rowwise() + w.topRightCorner<3, 1>().transpose()).eval();
+Eigen::MatrixXd RigPoser::pose_scene(double t) {
+  Eigen::MatrixXd V;
+  skin(t, V);
+  return clean(V);
+}
+
+void RigPoser::to_space(Eigen::MatrixXd& V) const {
+  if (options_.space == RigSpace::Scene) return;
+  const RigSkin& s = skinner_.skin();
+  for (const GltfPiece& p : rig_.pieces) {
+    const Eigen::Matrix4d& Bi = s.bind_inverse[p.skin];
+    auto block = V.middleRows(p.first_vertex, p.vertices);
+    block = ((block * Bi.topLeftCorner<3, 3>().transpose()).rowwise() + Bi.topRightCorner<3, 1>().transpose())
+                .eval();
   }
+}
+
+Mesh RigPoser::rest() const {
+  Mesh m = skinner_.skin().rest;
+  if (options_.space == RigSpace::Scene) return m;
+  m.V = rig_.mesh.V;
+  for (const GltfPiece& p : rig_.pieces)
+    for (Eigen::Index k = 0; k < p.num_targets(); ++k)
+      if (p.default_weights[k] != 0)
+        m.V.middleRows(p.first_vertex, p.vertices) += p.default_weights[k] * p.targets[k];
+  return m;
+}
+
+Eigen::MatrixXd RigPoser::pose(double t) {
+  Eigen::MatrixXd V = pose_scene(t);
+  to_space(V);
   return V;
 }
 
@@ -76,13 +95,23 @@ std::vector<Eigen::MatrixXd> bake_rig_gltf(const std::filesystem::path& path, Ri
     if (!std::isfinite(times[f]) || (f > 0 && !(times[f] > times[f - 1])))
       throw Error(path.string() + ": time of frame " + std::to_string(f) +
                   " is not finite or not after the previous one");
-  std::vector<Eigen::MatrixXd> frames(times.size());
-  for (size_t f = 0; f < times.size(); ++f) frames[f] = poser.pose_mesh_space(times[f]);
   const GltfRig& rig = poser.rig();
-  const Eigen::Matrix4d node = poser.options().space == RigSpace::Scene
-                                   ? node_world_matrices(rig, -1, 0.0)[rig.mesh_node]
-                                   : Eigen::Matrix4d::Identity();
-  write_gltf_morph_animation(path, rig.mesh, frames, times, name, node);
+  const RigSkin& skin = poser.rig_skin();
+  Eigen::Matrix4d node = Eigen::Matrix4d::Identity();
+  Mesh rest = skin.rest;
+  if (poser.options().space == RigSpace::Mesh) {
+    for (const GltfPiece& p : rig.pieces)
+      if (!skin.bind[p.skin].isApprox(skin.bind[rig.pieces[0].skin], 1e-9))
+        throw Error(path.string() + ": the pieces' skins have different bind matrices: bake in scene space");
+    node = skin.bind[rig.pieces[0].skin];
+    rest = poser.rest();
+  }
+  std::vector<Eigen::MatrixXd> frames(times.size());
+  for (size_t f = 0; f < times.size(); ++f) frames[f] = poser.pose(times[f]);
+  std::vector<GltfMorphPiece> pieces;
+  for (const GltfPiece& p : rig.pieces)
+    pieces.push_back({p.name, p.first_vertex, p.vertices, p.first_face, p.faces});
+  write_gltf_morph_animation(path, rest, frames, times, name, node, pieces);
   return frames;
 }
 

@@ -35,7 +35,9 @@ struct SceneRunner::Impl {
   // its own extrusion from the rest mesh.
   // Pinned mode (the pose-keeping cleanup): bound once for the rest mesh and the pinned handles' vertices.
   std::optional<ConformalSnap> snapper;
-  std::optional<PinnedCleanup> cleaner;
+  std::optional<PinnedCleanup> cleaner;   // the handles pinned
+  std::optional<RigCleanup> rig_cleaner;  // "pins": "weights": the rig cleanup
+  json clean(std::size_t f, FrameResult& fr);
   std::size_t next = 0;  // the frame next() computes
 
   explicit Impl(const Scene& s);
@@ -84,8 +86,7 @@ SceneRunner::Impl::Impl(const Scene& s) : scene(s) {
         ro.pin_margin = scene.snap.pin_margin;
         ro.pose_weight = scene.snap.pose_weight.value_or(ro.pose_weight);
         ro.cleanup = o;
-        cleaner.emplace(
-            std::move(RigCleanup::bind(scene.mesh, d->skin()->weights, d->skin()->bones, ro).cleanup));
+        rig_cleaner.emplace(RigCleanup::bind(scene.mesh, d->skin()->weights, d->skin()->bones, ro));
       } else {
         o.pose_weight = scene.snap.pose_weight.value_or(0.0);
         cleaner.emplace(PinnedCleanup::bind(scene.mesh, pins, o));
@@ -102,6 +103,59 @@ SceneRunner::Impl::Impl(const Scene& s) : scene(s) {
       throw Error(scene.name() + ": /snap: " + e.what(), e.kind());
     }
   }
+}
+
+// The pose-keeping cleanup of frame f (pinned handles, or the rig cleanup): fr.V becomes the cleaned
+// pose, the edit moves to fr.V_unsnapped; returns the frame's "snap" figures.
+json SceneRunner::Impl::clean(std::size_t f, FrameResult& fr) {
+  using clock = std::chrono::steady_clock;
+  const auto t2 = clock::now();
+  Eigen::MatrixXd V_clean;
+  DeformationMetrics ms;
+  json out = {{"mode", "pinned"}};
+  const bool first = f == 0;  // the bind is paid by the first frame
+  double bind = 0;
+  try {
+    if (rig_cleaner) {
+      const RigCleanupResult r = (*rig_cleaner)(fr.V, V_clean);
+      bind = rig_cleaner->bind_ms();
+      out.update({{"pins", rig_cleaner->pins().size()},
+                  {"keep", "per piece"},
+                  {"pose_weight", rig_cleaner->options().pose_weight},
+                  {"measure_ratio", r.volume_ratio},
+                  {"edit_measure_ratio", r.edit_volume_ratio},
+                  {"pin_error", r.pin_error},
+                  {"iterations", r.iterations},
+                  {"converged", r.converged}});
+    } else {
+      const PinnedCleanupResult pr = cleaner->cleanup(fr.V, V_clean);
+      bind = cleaner->bind_ms();
+      out.update({{"pins", cleaner->pins().size()},
+                  {"keep", option_name(pr.kept)},
+                  {"pose_weight", cleaner->options().pose_weight},
+                  {"measure_ratio", pr.measure_ratio()},  // kept volume or area / rest
+                  {"edit_measure_ratio", pr.rest_measure != 0 ? pr.edit_measure / pr.rest_measure : 1.0},
+                  {"pin_error", pr.pin_error},
+                  {"iterations", pr.iterations},
+                  {"converged", pr.converged}});
+    }
+    ms = compute_metrics(scene.mesh, V_clean);
+  } catch (const Error& e) {
+    throw Error(scene.name() + ": snap (pinned mode): " + e.what(), e.kind());
+  }
+  const VertexDistances dist = vertex_distances(fr.V, V_clean, Alignment::None);
+  out.update({{"q_mean", detail::finite_or_null(ms.q_mean)},
+              {"q_max", detail::finite_or_null(ms.q_max)},
+              {"area_distortion", detail::finite_or_null(ms.area_distortion)},
+              {"rms_edit_to_snap", dist.rms},  // relative to the edit's bounding-box diagonal
+              {"max_edit_to_snap", dist.max},
+              {"bind_ms", first ? bind : 0.0},
+              {"total_ms",
+               (first ? bind : 0.0) + std::chrono::duration<double, std::milli>(clock::now() - t2).count()},
+              {"metrics", to_json(ms)}});
+  fr.V_unsnapped = std::move(fr.V);
+  fr.V = std::move(V_clean);
+  return out;
 }
 
 FrameResult SceneRunner::Impl::frame(std::size_t f) {
@@ -132,41 +186,7 @@ FrameResult SceneRunner::Impl::frame(std::size_t f) {
   for (const auto& [k, v] : extra.items()) j[k] = v;
   for (const auto& [k, v] : bind_extra.items()) j[k] = v;
   j["metrics"] = to_json(m);
-  if (cleaner) {
-    const auto t2 = clock::now();
-    Eigen::MatrixXd V_clean;
-    PinnedCleanupResult pr;
-    DeformationMetrics ms;
-    try {
-      pr = cleaner->cleanup(fr.V, V_clean);
-      ms = compute_metrics(scene.mesh, V_clean);
-    } catch (const Error& e) {
-      throw Error(scene.name() + ": snap (pinned mode): " + e.what(), e.kind());
-    }
-    const VertexDistances dist = vertex_distances(fr.V, V_clean, Alignment::None);
-    const bool first = f == 0;  // the bind is paid by the first frame
-    j["snap"] = {{"mode", "pinned"},
-                 {"pins", cleaner->pins().size()},
-                 {"keep", option_name(pr.kept)},
-                 {"pose_weight", scene.snap.pose_weight.value_or(
-                                     scene.snap.pin_weights ? RigCleanupOptions{}.pose_weight : 0.0)},
-                 {"q_mean", detail::finite_or_null(ms.q_mean)},
-                 {"q_max", detail::finite_or_null(ms.q_max)},
-                 {"area_distortion", detail::finite_or_null(ms.area_distortion)},
-                 {"measure_ratio", pr.measure_ratio()},  // kept volume or area / rest
-                 {"edit_measure_ratio", pr.rest_measure != 0 ? pr.edit_measure / pr.rest_measure : 1.0},
-                 {"pin_error", pr.pin_error},
-                 {"iterations", pr.iterations},
-                 {"converged", pr.converged},
-                 {"rms_edit_to_snap", dist.rms},  // relative to the edit's bounding-box diagonal
-                 {"max_edit_to_snap", dist.max},
-                 {"bind_ms", first ? cleaner->bind_ms() : 0.0},
-                 {"total_ms", (first ? cleaner->bind_ms() : 0.0) +
-                                  std::chrono::duration<double, std::milli>(clock::now() - t2).count()},
-                 {"metrics", to_json(ms)}};
-    fr.V_unsnapped = std::move(fr.V);
-    fr.V = std::move(V_clean);
-  }
+  if (cleaner || rig_cleaner) j["snap"] = clean(f, fr);
   if (scene.snap.enabled && scene.snap.mode == SnapMode::Shape) {
     const auto t2 = clock::now();
     CurvatureFlow flow;

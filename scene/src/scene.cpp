@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/deform/gltf_animation.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/io.hpp"
 #include "spinmotor/mesh/validate.hpp"
@@ -180,6 +181,7 @@ RigSpec make_rig(const Scene& s, const json& r) {
   if (rig.file.is_relative()) rig.file = s.dir / rig.file;
   try {
     rig.gltf = std::make_shared<const GltfRig>(read_gltf(rig.file));
+    rig.skin = std::make_shared<const RigSkin>(rig_skin(*rig.gltf));
   } catch (const Error& e) {
     throw s.error("/rig/gltf", e.what());
   }
@@ -302,7 +304,7 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
                       : "missing `mesh` (a mesh file or generator) or `rig` (a glTF character)");
   if (doc.contains("rig")) {
     s.rig = make_rig(s, doc["rig"]);
-    s.mesh = s.rig->gltf->mesh;
+    s.mesh = s.rig->skin->rest;
     s.mesh_source = doc["rig"]["gltf"].get<std::string>();
   } else {
     s.mesh = make_mesh(s, doc["mesh"]);

@@ -188,7 +188,8 @@ PinnedCleanup PinnedCleanup::bind(const Mesh& rest, std::span<const int> pins,
   const Eigen::SparseMatrix<double> L = cotangent_laplacian(rest.V, rest.F);
 
   // Pins: range, then sort and drop repeats.
-  if (pins.empty())
+  const bool attracting = options.pose_weight > 0;
+  if (pins.empty() && !attracting)
     throw Error("PinnedCleanup: no pinned vertex (give at least one per connected component)");
   std::vector<int> p(pins.begin(), pins.end());
   for (size_t r = 0; r < p.size(); ++r)
@@ -212,12 +213,31 @@ PinnedCleanup PinnedCleanup::bind(const Mesh& rest, std::span<const int> pins,
     }
   m.free = Eigen::Map<const Eigen::VectorXi>(fr.data(), static_cast<Eigen::Index>(fr.size()));
 
-  // Every connected component needs a pin: a free region without one has no anchor.
+  // Attraction weights (checked before the anchors, which they can provide).
+  if (!attraction.empty() && static_cast<Eigen::Index>(attraction.size()) != n) {
+    std::ostringstream s;
+    s << "PinnedCleanup: " << attraction.size() << " attraction weights for " << n << " vertices";
+    throw Error(s.str());
+  }
+  for (size_t i = 0; i < attraction.size(); ++i)
+    if (!(attraction[i] >= 0 && attraction[i] <= 1)) {
+      std::ostringstream s;
+      s << "PinnedCleanup: attraction weight of vertex " << i << " is " << attraction[i] << ", not in [0, 1]";
+      throw Error(s.str());
+    }
+  // Every connected component needs an anchor: a pin, or (with the pose attraction) a free vertex with a
+  // positive attraction weight. A free region without one floats.
   int ncomp = 0;
   const Eigen::VectorXi comp = vertex_components(rest.F, n, &ncomp);
+  std::vector<char> anchors(n, 0);
+  for (const int i : p) anchors[i] = 1;
+  if (attracting)
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (attraction.empty() || attraction[i] > 0) anchors[i] = 1;
   {
     std::vector<char> anchored(ncomp, 0);
-    for (const int i : p) anchored[comp[i]] = 1;
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (anchors[i]) anchored[comp[i]] = 1;
     for (int c = 0; c < ncomp; ++c)
       if (!anchored[c]) {
         Eigen::Index count = 0, first = -1;
@@ -228,8 +248,8 @@ PinnedCleanup PinnedCleanup::bind(const Mesh& rest, std::span<const int> pins,
           }
         std::ostringstream s;
         s << "PinnedCleanup: connected component " << c << " of the mesh (" << count
-          << (count == 1 ? " vertex" : " vertices") << ", e.g. vertex " << first
-          << ") has no pinned vertex: its free vertices have no anchor";
+          << (count == 1 ? " vertex" : " vertices") << ", e.g. vertex " << first << ") has no pinned vertex"
+          << (attracting ? " and no attracted one" : "") << ": its free vertices have no anchor";
         throw Error(s.str());
       }
   }
@@ -291,17 +311,6 @@ PinnedCleanup PinnedCleanup::bind(const Mesh& rest, std::span<const int> pins,
 
   // Pose attraction: C = diag(c), c_i = γ a_i m_i / A_rest on the free vertices (m_i the barycentric
   // vertex area of the rest mesh, A_rest its area; a_i the caller's weights, 1 when none are given).
-  if (!attraction.empty() && static_cast<Eigen::Index>(attraction.size()) != n) {
-    std::ostringstream s;
-    s << "PinnedCleanup: " << attraction.size() << " attraction weights for " << n << " vertices";
-    throw Error(s.str());
-  }
-  for (size_t i = 0; i < attraction.size(); ++i)
-    if (!(attraction[i] >= 0 && attraction[i] <= 1)) {
-      std::ostringstream s;
-      s << "PinnedCleanup: attraction weight of vertex " << i << " is " << attraction[i] << ", not in [0, 1]";
-      throw Error(s.str());
-    }
   m.attract.setZero(n);
   m.attracted = options.pose_weight > 0;
   Eigen::SparseMatrix<double> A = L;
@@ -315,7 +324,7 @@ PinnedCleanup PinnedCleanup::bind(const Mesh& rest, std::span<const int> pins,
   }
 
   // One factorisation of (L + C)_FF (skipped when everything is pinned).
-  if (!fr.empty()) m.solver.bind(A, m.pins, DirichletSolver::Kind::SPD);
+  if (!fr.empty()) m.solver.bind(A, m.pins, DirichletSolver::Kind::SPD, anchors);
   // Vertex cells from the Laplacian's off-diagonal entries.
   m.cell_of.assign(n, -1);
   for (const int i : fr) {

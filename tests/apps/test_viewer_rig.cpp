@@ -16,11 +16,12 @@
 #include <string>
 
 #include "spinmotor/core/error.hpp"
-#include "spinmotor/deform/rig_skin.hpp"
+#include "spinmotor/deform/gltf_skin.hpp"
 #include "spinmotor/mesh/gltf.hpp"
 #include "spinmotor/mesh/gltf_rig_writer.hpp"
 #include "spinmotor/mesh/procedural_rig.hpp"
 #include "spinmotor/scene/deformer_registry.hpp"
+#include "spinmotor/scene/rig_cleanup.hpp"
 #include "spinmotor/viewer/animation_clock.hpp"
 #include "spinmotor/viewer/bone_overlay.hpp"
 #include "spinmotor/viewer/gizmo.hpp"
@@ -71,9 +72,9 @@ TEST_CASE("viewer rig session: a .glb opens as a skin scene posed by its animati
   // At t = 1 the skin deformer (default blend: DLB) poses exactly what it poses bound by hand.
   s.set_time(1.0);
   const GltfRig rig = read_gltf(f.file);
-  SkinDeformer d = bind_rig(rig, SkinBlend::Linear);
+  RigSkinner d(rig, SkinBlend::Linear);
   Eigen::MatrixXd V;
-  d.pose(rig_pose_motors(rig, 0, 1.0), V);
+  d.pose(0, 1.0, V);
   CHECK((s.posed() - V).cwiseAbs().maxCoeff() <= 1e-12);
   // The posed skeleton in closed form (60° about x at each inner joint): heads e, e + R e; the last
   // bone's tail (a leaf: its parent's length along its own y) is e + R e + R² (0, 1, 0)... its y axis
@@ -101,7 +102,7 @@ TEST_CASE("viewer rig session: a .glb opens as a skin scene posed by its animati
   s.set_animation(1);
   CHECK(s.animation() == 1);
   CHECK(*s.time() == 1.0);
-  d.pose(rig_pose_motors(rig, 1, 1.0), V);
+  d.pose(1, 1.0, V);
   CHECK((s.posed() - V).cwiseAbs().maxCoeff() <= 1e-12);
   CHECK_THROWS_AS(s.set_animation(2), Error);
 }
@@ -154,32 +155,38 @@ TEST_CASE("viewer rig session: a bone gizmo edits the animated pose, undo keeps 
   CHECK((t.posed() - edited).cwiseAbs().maxCoeff() <= 1e-9);
 }
 
-TEST_CASE("viewer rig cleanup: the skin's rigid parts are the pins, the worker keeps them bit for bit",
+TEST_CASE("viewer rig cleanup: the worker binds the rig cleanup through its door, bit for bit",
           "[viewer][rig]") {
   LimbFile f;
   Session s = Session::open(f.file);
   s.set_time(1.0);
-  const std::vector<int> pins = s.cleanup_pins();
+  CHECK(s.cleanup_pins().empty());  // no handles: the skin's cleanup, not pinned handles
+  const auto skin = s.cleanup_skin();
+  REQUIRE(skin);
   const GltfRig rig = read_gltf(f.file);
-  const RigSkin skin = rig_skin(rig);
-  CHECK(pins == scene::skin_pins(rig.mesh, {skin.bones, Eigen::MatrixXd(skin.weights)}, 0.999, -1));
-  CHECK(pins.size() > 100);
+  const RigSkin rs = rig_skin(rig);
+  scene::RigCleanup door = scene::RigCleanup::bind(s.rest(), rs.weights, rs.bones);
+  CHECK(door.pins().size() > 100);
   SnapWorker w(s.rest());
   const Eigen::MatrixXd posed = s.posed();
   // Frames requested faster than they are cleaned: only the latest is shown.
   for (double t : {0.2, 0.4, 0.6}) {
     s.set_time(t);
-    w.request_pinned(s.posed(), pins);
+    w.request_rig(s.posed(), skin);
   }
   s.set_time(1.0);
-  w.request_pinned(s.posed(), pins);
+  w.request_rig(s.posed(), skin);
   REQUIRE(w.wait_idle(120));
   const auto r = w.take();
   REQUIRE(r);
   REQUIRE(r->error.empty());
   CHECK(r->pinned);
+  CHECK(r->pins == door.pins().size());
+  Eigen::MatrixXd expected;
+  door(posed, expected);
+  CHECK(r->V == expected);  // the same door, the same result
   double moved = 0;
-  for (int v : pins) moved = std::max(moved, (r->V.row(v) - posed.row(v)).cwiseAbs().maxCoeff());
+  for (int v : door.pins()) moved = std::max(moved, (r->V.row(v) - posed.row(v)).cwiseAbs().maxCoeff());
   CHECK(moved == 0.0);
   CHECK((r->V - posed).cwiseAbs().maxCoeff() > 1e-4);  // the blend bands were cleaned up
   CHECK(r->volume_ratio == Approx(1.0).margin(1e-3));

@@ -17,7 +17,8 @@
 #include "cli_support.hpp"
 #include "shared_data.hpp"
 #include "spinmotor/core/error.hpp"
-#include "spinmotor/deform/rig_skin.hpp"
+#include "spinmotor/deform/gltf_animation.hpp"
+#include "spinmotor/deform/gltf_skin.hpp"
 #include "spinmotor/mesh/gltf.hpp"
 #include "spinmotor/mesh/gltf_rig_writer.hpp"
 #include "spinmotor/mesh/io.hpp"
@@ -179,7 +180,8 @@ TEST_CASE("write_gltf_rig: the limb round-trips through .gltf and .glb in vertex
     CHECK(back.dropped_faces == 0);
     // The capsule's UV seam doubles 41 ring vertices... in the file, welded back on reading.
     CHECK(back.file_vertices > rig.mesh.V.rows());
-    CHECK(back.mesh_name == "limb");
+    REQUIRE(back.pieces.size() == 1);
+    CHECK(back.pieces[0].name == "limb");
     require_same_rig(rig, back, 5e-7);
     for (int a = -1; a < 2; ++a)
       for (double t : {0.0, 0.3, 1.0, 1.7}) {
@@ -232,6 +234,51 @@ TEST_CASE("write_gltf_rig: bad input throws naming the problem and writes nothin
   bad = rig;
   bad.nodes[0].parent = 1;  // joint0 <-> joint1
   expect(s.dir / "c.glb", bad, "cycle");
+  bad = rig;
+  bad.pieces[0].targets.push_back(Eigen::MatrixXd::Zero(2, 3));
+  expect(s.dir / "t.glb", bad, "1 morph targets with 0 weights");
+  bad = rig;
+  bad.pieces[0].vertices -= 1;
+  expect(s.dir / "p.glb", bad, "piece 'limb'");
+}
+
+TEST_CASE(
+    "write_gltf_rig: the procedural character in every layout round-trips: pieces, targets, weights "
+    "channel") {
+  Scratch s;
+  for (const auto layout : {spinmotor::CharacterLayout::Scene, spinmotor::CharacterLayout::Mixamo,
+                            spinmotor::CharacterLayout::Armature}) {
+    INFO("layout " << static_cast<int>(layout));
+    const GltfRig rig = spinmotor::character_rig({.layout = layout, .mesh_node_offset = true});
+    const fs::path p = s.dir / "character.glb";
+    spinmotor::write_gltf_rig(p, rig);
+    const GltfRig back = spinmotor::read_gltf(p);
+    REQUIRE(back.pieces.size() == 7);
+    for (size_t k = 0; k < 7; ++k) {
+      CHECK(back.pieces[k].name == rig.pieces[k].name);
+      CHECK(back.pieces[k].vertices == rig.pieces[k].vertices);
+      CHECK(back.pieces[k].target_names == rig.pieces[k].target_names);
+      for (size_t t = 0; t < rig.pieces[k].targets.size(); ++t)
+        CHECK(max_diff(back.pieces[k].targets[t], rig.pieces[k].targets[t]) <= 1e-6);
+    }
+    CHECK(back.skins.size() == 1);
+    CHECK(back.renormalised_rows == 0);  // the generator's rows sum to 1 (float32)
+    Eigen::Index most = 0;
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> W = back.weights;
+    for (Eigen::Index i = 0; i < W.outerSize(); ++i) most = std::max<Eigen::Index>(most, W.row(i).nonZeros());
+    CHECK(most > 4);  // the torso's Gaussians: JOINTS_1 was written and read
+    // float32 positions: the Armature layout stores centimetres (100× the metres of the others)
+    require_same_rig(rig, back, layout == spinmotor::CharacterLayout::Armature ? 2e-4 : 2e-6);
+    for (int a = -1; a < 2; ++a)
+      for (double t : {0.0, 0.3, 0.8}) {
+        INFO("animation " << a << " t " << t);
+        CHECK(max_diff(spinmotor::skin_positions(rig, a, t), spinmotor::skin_positions(back, a, t)) <= 2e-6);
+      }
+    // Every layout is the same character in the scene: 1.8 tall, feet at y = 0, +Y up.
+    const Eigen::MatrixXd rest = spinmotor::rig_skin(back).rest.V;
+    CHECK(rest.col(1).minCoeff() == Approx(-0.01).margin(1e-5));
+    CHECK(rest.col(1).maxCoeff() == Approx(1.845).margin(1e-5));
+  }
 }
 
 TEST_CASE(
@@ -385,11 +432,10 @@ TEST_CASE("limb rig bent 90°: DLB and Log keep the volume LBS loses at the join
   const double rest = volume(rig.mesh.V);
   // The bend animation goes rest → 90° → rest: its middle is the full bend.
   const spinmotor::GltfAnimation& an = rig.animations[bend];
-  const auto motors = spinmotor::rig_pose_motors(rig, bend, 0.5 * (an.start + an.end));
   std::map<spinmotor::SkinBlend, double> ratio;
   for (const auto b : {spinmotor::SkinBlend::LBS, spinmotor::SkinBlend::Linear, spinmotor::SkinBlend::Log}) {
     Eigen::MatrixXd V;
-    spinmotor::bind_rig(rig, b).pose(motors, V);
+    spinmotor::RigSkinner(rig, b).pose(bend, 0.5 * (an.start + an.end), V);
     ratio[b] = volume(V) / rest;
   }
   const double lbs = ratio[spinmotor::SkinBlend::LBS], dlb = ratio[spinmotor::SkinBlend::Linear],

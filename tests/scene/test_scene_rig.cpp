@@ -268,8 +268,14 @@ TEST_CASE("rig scene: bad rig blocks name /rig/... and the problem") {
   doc["pose"] = {{"elbow", {{"translate", {0, 0, 1}}}}};
   has(doc, "/pose/elbow", "'joint0', 'joint1', 'joint2'");
   doc = ok;
-  doc["snap"] = {{"pins", "weights"}, {"pin_threshold", 1.0}, {"pin_margin", 10.0}};
-  has(doc, "/snap", "no vertex has a dominant weight");
+  // No pin at all is not an error: the attraction anchors the limb, or (γ = 0) it stays as skinned.
+  doc["snap"] = {{"pins", "weights"}, {"pin_threshold", 1.0}, {"pin_margin", 10.0}, {"pose_weight", 0.0}};
+  {
+    const scene::Scene s = f.parse(doc);
+    const auto fr = scene::run_scene(s).frames.at(0);
+    CHECK(fr.metrics["snap"]["pins"] == 0);
+    CHECK(fr.V == fr.V_unsnapped);
+  }
   doc = ok;
   doc["snap"] = {{"pin_margin", 0.1}};
   has(doc, "/snap/pin_margin", "belongs to \"pins\": \"weights\"");

@@ -17,8 +17,8 @@
 #include "cli_support.hpp"
 #include "shared_data.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/deform/gltf_skin.hpp"
 #include "spinmotor/deform/rig_pins.hpp"
-#include "spinmotor/deform/rig_skin.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/gltf.hpp"
 #include "spinmotor/mesh/io.hpp"
@@ -412,7 +412,10 @@ TEST_CASE(
   CHECK(def.pose_weight == 10);
   RigCleanup rc = RigCleanup::bind(a.mesh, a.W, a.bones);
   const Eigen::VectorXd margins = default_pin_margins(a.mesh.V, a.W, a.bones, 0.999);
-  CHECK(rc.margins == margins);
+  CHECK(rc.margins() == margins);
+  REQUIRE(rc.pieces().size() == 1);
+  CHECK(rc.pieces()[0].status == spinmotor::scene::RigPieceStatus::Cleaned);
+  CHECK(rc.pieces()[0].keep == spinmotor::CleanupKeep::Volume);
   // A quarter of the z extent of the blended vertices (w* < 0.999), computed here from the weights.
   double zlo = 1e9, zhi = -1e9;
   for (Eigen::Index i = 0; i < a.mesh.V.rows(); ++i)
@@ -420,18 +423,18 @@ TEST_CASE(
       zlo = std::min(zlo, a.mesh.V(i, 2)), zhi = std::max(zhi, a.mesh.V(i, 2));
   CHECK(margins[0] == Approx((zhi - zlo) / 4).epsilon(1e-12));
   CHECK(margins[1] == Approx((zhi - zlo) / 4).epsilon(1e-12));
-  CHECK(rc.pins == pins_from_weights(a.mesh.V, a.W, 0.999, margins));
-  CHECK(rc.attraction == pin_attraction_from_weights(a.W, 0.999, 0.5));
+  CHECK(rc.pins() == pins_from_weights(a.mesh.V, a.W, 0.999, margins));
+  CHECK(rc.attraction() == pin_attraction_from_weights(a.W, 0.999, 0.5));
   // Bit for bit the cleanup bound by hand with the same pins, weights and γ.
   PinnedCleanupOptions o;
   o.pose_weight = 10;
-  PinnedCleanup by_hand = PinnedCleanup::bind(a.mesh, rc.pins, o, rc.attraction);
+  PinnedCleanup by_hand = PinnedCleanup::bind(a.mesh, rc.pins(), o, rc.attraction());
   const Eigen::MatrixXd E = arm_lbs(a, M_PI / 2, 0);
   Eigen::MatrixXd V1, V2;
   rc(E, V1);
   by_hand.cleanup(E, V2);
   CHECK(V1 == V2);
-  CHECK(max_pin_error(V1, E, rc.pins) == 0);
+  CHECK(max_pin_error(V1, E, rc.pins()) == 0);
   // The attraction keeps it nearer the pose than the pins alone, and both beat LBS on Q.
   RigCleanupOptions pins_only;
   pins_only.pose_weight = 0;
@@ -449,12 +452,28 @@ TEST_CASE(
   // Errors.
   CHECK_THROWS_WITH(RigCleanup::bind(a.mesh, a.W, std::span<const Bone>(a.bones.data(), 1)),
                     Catch::Contains("1 bones for 2 weight columns"));
+  // No pin at all (a margin wider than the arm) and no attraction: nothing anchors the arm, which is
+  // kept as skinned (never an abort); with the attraction it is anchored and cleaned.
   RigCleanupOptions far;
   far.pin_margin = 100;
-  CHECK_THROWS_WITH(RigCleanup::bind(a.mesh, a.W, a.bones, far), Catch::Contains("no vertex"));
+  far.pose_weight = 0;
+  RigCleanup unanchored = RigCleanup::bind(a.mesh, a.W, a.bones, far);
+  CHECK(unanchored.pins().size() == 0);
+  CHECK(unanchored.pieces()[0].status == spinmotor::scene::RigPieceStatus::Unanchored);
+  Eigen::MatrixXd Vu;
+  unanchored(E, Vu);
+  CHECK(Vu == E);
+  far.pose_weight = 10;
+  RigCleanup attracted = RigCleanup::bind(a.mesh, a.W, a.bones, far);
+  CHECK(attracted.pieces()[0].status == spinmotor::scene::RigPieceStatus::Cleaned);
+  attracted(E, Vu);
+  CHECK(quality(a.mesh.V, a.mesh.F, Vu).q_mean < quality(a.mesh.V, a.mesh.F, E).q_mean - 0.05);
   RigCleanupOptions neg;
   neg.pose_weight = -1;
-  CHECK_THROWS_WITH(RigCleanup::bind(a.mesh, a.W, a.bones, neg), Catch::Contains("pose_weight"));
+  CHECK_THROWS_WITH(RigCleanup::bind(a.mesh, a.W, a.bones, neg), Catch::Contains("pose weight"));
+  RigCleanupOptions low;
+  low.pin_threshold = 0.4;
+  CHECK_THROWS_WITH(RigCleanup::bind(a.mesh, a.W, a.bones, low), Catch::Contains("outside [0.5, 1]"));
 }
 
 TEST_CASE("RigCleanup on CesiumMan: conformal, near the pose, volume kept (Cesium, CC BY 4.0)",
@@ -462,18 +481,17 @@ TEST_CASE("RigCleanup on CesiumMan: conformal, near the pose, volume kept (Cesiu
   SPINMOTOR_REQUIRE_RIGS();
   const GltfRig rig = read_gltf(std::string(SPINMOTOR_RIGS_DIR) + "/CesiumMan.gltf");
   const RigSkin skin = rig_skin(rig);
-  SkinDeformer lbs = bind_rig(rig, SkinBlend::LBS);
   Eigen::MatrixXd E;
-  lbs.pose(rig_pose_motors(rig, 0, 1.0), E);
-  RigCleanup rc = RigCleanup::bind(rig.mesh, skin.weights, skin.bones);
+  spinmotor::RigSkinner(rig, SkinBlend::LBS).pose(0, 1.0, E);
+  RigCleanup rc = RigCleanup::bind(skin.rest, skin.weights, skin.bones);
   RigCleanupOptions pins_only;
   pins_only.pose_weight = 0;
-  RigCleanup rc0 = RigCleanup::bind(rig.mesh, skin.weights, skin.bones, pins_only);
+  RigCleanup rc0 = RigCleanup::bind(skin.rest, skin.weights, skin.bones, pins_only);
   Eigen::MatrixXd V, V0;
   rc(E, V);
   rc0(E, V0);
-  const Eigen::MatrixXd& R = rig.mesh.V;
-  const Eigen::MatrixXi& F = rig.mesh.F;
+  const Eigen::MatrixXd& R = skin.rest.V;
+  const Eigen::MatrixXi& F = skin.rest.F;
   const double d = diagonal(E);
   const auto rms = [&](const Eigen::MatrixXd& X) {
     return std::sqrt((X - E).rowwise().squaredNorm().mean()) / d;
@@ -481,8 +499,8 @@ TEST_CASE("RigCleanup on CesiumMan: conformal, near the pose, volume kept (Cesiu
   const Quality ql = quality(R, F, E), q = quality(R, F, V);
   INFO("LBS Q " << ql.q_mean << " / " << ql.q_max << "; cleanup " << q.q_mean << " / " << q.q_max
                 << ", drift " << rms(V) << " (pins only " << rms(V0) << ")");
-  CHECK(rc.pins.size() == 62);
-  CHECK(max_pin_error(V, E, rc.pins) == 0);
+  CHECK(rc.pins().size() == 62);
+  CHECK(max_pin_error(V, E, rc.pins()) == 0);
   // Measured (2026-12): LBS 1.168 / 8.8; cleanup 1.021 / 1.19 at drift 0.52% (pins only: 4.1%).
   CHECK(q.q_mean < 1.03);
   CHECK(q.q_max < 1.5);

@@ -153,10 +153,13 @@ int run_headless(const Args& a) {
     SnapWorker worker(s.rest());
     if (a.keep_pose) {
       const std::vector<int> pins = s.cleanup_pins();
-      if (pins.empty())
+      auto skin = s.cleanup_skin();
+      if (pins.empty() && !skin)
         throw Error("--keep-pose: nothing to pin (no handle, and the deformer is not a skin)");
-      Session::CleanupAttraction at = s.cleanup_attraction();
-      worker.request_pinned(V, pins, at.pose_weight, std::move(at.weights));
+      if (skin)
+        worker.request_rig(V, std::move(skin));
+      else
+        worker.request_pinned(V, pins);
     } else
       worker.request(V, a.tradeoff);
     worker.wait_idle(600);
@@ -166,7 +169,7 @@ int run_headless(const Args& a) {
       std::printf(
           "cleanup (%zu vertices pinned): Q_mean %.4f -> %.4f, volume %.4f of rest (bind %.0f ms, cleanup "
           "%.0f ms)\n",
-          s.cleanup_pins().size(), q_edit, r->q_mean, r->volume_ratio, r->bind_ms, r->snap_ms);
+          static_cast<size_t>(r->pins), q_edit, r->q_mean, r->volume_ratio, r->bind_ms, r->snap_ms);
     else
       std::printf("snap: Q_mean %.4f -> %.4f (bind %.0f ms, snap %.0f ms)\n", q_edit, r->q_mean, r->bind_ms,
                   r->snap_ms);
@@ -228,18 +231,22 @@ int run_headless(const Args& a) {
       const auto [t0, t1] = s.animation_range();
       std::unique_ptr<SnapWorker> cleaner;
       std::vector<int> pins;
-      Session::CleanupAttraction attraction;
+      std::shared_ptr<const scene::SkinBinding> skin;
       if (a.snap && a.keep_pose)
-        cleaner = std::make_unique<SnapWorker>(s.rest()), pins = s.cleanup_pins(),
-        attraction = s.cleanup_attraction();
+        cleaner = std::make_unique<SnapWorker>(s.rest()), pins = s.cleanup_pins(), skin = s.cleanup_skin();
       FrameSamples pose_ms, draw_ms;
       int requested = 0;
       for (int f = 0; f < a.frames && !interrupted(); ++f, ++done) {
         s.set_time(a.frames > 1 ? t0 + (t1 - t0) * f / (a.frames - 1) : t0);
         const Eigen::MatrixXd& Vf = s.posed();
         pose_ms.add(s.pose_ms());
-        if (cleaner)
-          cleaner->request_pinned(Vf, pins, attraction.pose_weight, attraction.weights), ++requested;
+        if (cleaner) {
+          if (skin)
+            cleaner->request_rig(Vf, skin);
+          else
+            cleaner->request_pinned(Vf, pins);
+          ++requested;
+        }
         const auto t2 = Clock::now();
         renderer.set_positions(Vf);
         renderer.draw(cam, o.width, o.height, o.style);

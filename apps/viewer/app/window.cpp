@@ -179,17 +179,14 @@ struct Viewer {
   void snap_now() {
     if (!snapper) return;
     std::vector<int> pins;
-    if (keep_pose) try {
-        pins = session.cleanup_pins();
-      } catch (const std::exception& e) {
-        status = e.what();
-      }
-    if (pins.empty())
+    std::shared_ptr<const scene::SkinBinding> skin;
+    if (keep_pose) pins = session.cleanup_pins(), skin = session.cleanup_skin();
+    if (skin)
+      snapper->request_rig(session.posed(), std::move(skin));
+    else if (!pins.empty())
+      snapper->request_pinned(session.posed(), std::move(pins));
+    else
       snapper->request(session.posed(), tradeoff);
-    else {
-      Session::CleanupAttraction a = session.cleanup_attraction();
-      snapper->request_pinned(session.posed(), std::move(pins), a.pose_weight, std::move(a.weights));
-    }
   }
 
   void request_paint() {

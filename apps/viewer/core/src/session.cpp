@@ -100,7 +100,6 @@ void Session::rebind(nlohmann::json doc) {
   history_ = UndoStack<scene::Pose>(pose_);
   V_ = scene_->mesh.V;
   dirty_ = true;
-  cleanup_pins_.reset();
 }
 
 void Session::add_handle(const std::string& name, const std::vector<int>& vertices) {
@@ -218,20 +217,12 @@ std::vector<PosedBone> Session::posed_bones() {
 }
 
 std::vector<int> Session::cleanup_pins() {
-  if (!scene_->handles.empty()) return handle_vertices();
-  const scene::SkinBinding* skin = deformer_ ? deformer_->skin() : nullptr;
-  if (!skin) return {};
-  if (!cleanup_pins_)
-    cleanup_pins_ = scene::skin_pins(scene_->mesh, *skin, scene::RigCleanupOptions{}.pin_threshold,
-                                     scene::RigCleanupOptions{}.pin_margin);
-  return *cleanup_pins_;
+  return scene_->handles.empty() ? std::vector<int>{} : handle_vertices();
 }
 
-Session::CleanupAttraction Session::cleanup_attraction() {
-  if (!scene_->handles.empty()) return {};
-  const scene::SkinBinding* skin = deformer_ ? deformer_->skin() : nullptr;
-  if (!skin) return {};
-  return {scene::RigCleanupOptions{}.pose_weight, pin_attraction_from_weights(skin->weights)};
+std::shared_ptr<const scene::SkinBinding> Session::cleanup_skin() const {
+  if (!scene_->handles.empty() || !deformer_) return nullptr;
+  return deformer_->shared_skin();
 }
 
 ga::Mot Session::drag_start_motor(const std::string& name) const {

@@ -9,8 +9,9 @@
 //   identity rest frames, F_j is directly the world-space motion of the bone, and identities give the
 //   rest mesh).
 // Weights (n×B, row i = the weights of vertex i): given (dense, sparse or read_skin_weights()), or
-//   computed by bone_harmonic_weights(). bind keeps the 4 largest non-zero weights of each row (ties: the
-//   lower bone index first) and renormalizes them to sum 1.
+//   computed by bone_harmonic_weights(). bind keeps the Options::max_influences largest non-zero weights
+//   of each row (ties: the lower bone index first; 4 by default, 0 = all; Log and PivotLog keep at most
+//   4) and renormalizes them to sum 1.
 // Blends of the ≤ 4 motions K_j of a vertex, weights w_j (slot 0 holds the largest weight: the pivot):
 //   LBS       p' = (Σ w_j T_j) p with T_j the 3×4 matrix of K_j (linear blend skinning; collapses under
 //             twist, the "candy wrapper").
@@ -18,8 +19,17 @@
 //   Log       exp(Σ w_j log K_j) (CGA paper eq. 1).
 //   PivotLog  exp(Σ w_j log(K_j ~K_pivot)) K_pivot.
 // pose(): per frame B matrices (LBS), B logs (Log), B² signs (Linear) or B² relative logs (PivotLog);
-//   then per vertex 4 weighted terms, one normalization / exponential and one point transform, parallel
+//   then per vertex its weighted terms, one normalization / exponential and one point transform, parallel
 //   over vertices, no allocation.
+// Affine bone transforms (pose_affine, for rigs whose joints scale: glTF's joint matrices). LBS blends
+//   the 3×4 matrices A_j as they are. The motor blends split each A_j = M_j ∘ S_j into a stretch S_j
+//   about the bone's rest head c_j, x ↦ c_j + P_j (x − c_j) with P_j the symmetric positive definite
+//   factor of the polar decomposition L_j = R_j P_j of A_j's linear part, and the rigid motion
+//   M_j: x ↦ R_j x + t_j + (L_j − R_j) c_j; the stretches are blended linearly, then the rigid motions
+//   by the blend (Kavan et al. 2008, "Geometric skinning with approximate dual quaternion blending",
+//   the two-phase skinning of scale and shear). Rigid A_j (P_j = I to 1e-9) skip the first phase, so a
+//   rigid rig gives what pose() gives. For the motor blends an A_j with det ≤ 0 (a mirror or a
+//   collapse) is an error naming the bone; LBS takes any finite A_j.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <array>
@@ -75,7 +85,10 @@ class SkinDeformer {
 
   struct Options {
     Blend blend = Blend::Linear;
+    /// Influences kept per vertex (the largest; 0 = all). Log and PivotLog keep at most 4.
+    int max_influences = 4;
   };
+  using Affine = Eigen::Matrix<double, 3, 4>;
 
   SkinDeformer() = default;
 
@@ -92,11 +105,15 @@ class SkinDeformer {
 
   /// B posed world frames F_j (unit motors), in bone order. Output: V_out (n×3).
   void pose(std::span<const ga::Mot> frames, Eigen::MatrixXd& V_out);
+  /// B affine bone transforms A_j (3×4, world to world, identity = rest; see the header comment) applied
+  /// to `points` (n×3; null: the rest positions, e.g. the rest with morph targets applied). Output:
+  /// V_out (n×3). Throws Error naming the bone for a non-finite transform, or det ≤ 0 (motor blends).
+  void pose_affine(std::span<const Affine> transforms, const Eigen::MatrixXd* points, Eigen::MatrixXd& V_out);
 
   Eigen::Index vertices() const { return P_.rows(); }
   /// One control per bone (its name, anchored at its rest head): the posed world frames.
   const std::vector<Control>& controls() const { return controls_; }
-  /// The kept weights as an n×B sparse matrix (≤ 4 per row, rows sum to 1).
+  /// The kept weights as an n×B sparse matrix (≤ max_influences per row, rows sum to 1).
   Eigen::SparseMatrix<double> weights() const;
   /// The motor of vertex i for the given frames (Linear / Log / PivotLog: ga::blend reference path).
   ga::Mot vertex_motor(Eigen::Index i, std::span<const ga::Mot> frames) const;
@@ -111,13 +128,21 @@ class SkinDeformer {
                                 std::vector<std::vector<std::pair<int, double>>> rows,
                                 const Options& options);
   void prepare(std::span<const ga::Mot> frames);
+  void prepare_blend();  // from motions_: the blend's per-bone terms
+  void blend_lbs(const Eigen::MatrixXd& P, const Eigen::Matrix<double, 3, 4>* T,
+                 Eigen::MatrixXd& V_out) const;
+  void blend_motors(const Eigen::MatrixXd& P, Eigen::MatrixXd& V_out) const;
 
   Options options_;
   std::vector<Control> controls_;
   std::vector<Bone> bones_;
   Eigen::MatrixXd P_;
-  std::vector<Influence> inf_;
-  // LBS, by blocks of kLbsBlock consecutive vertices: the bones that weigh on block k are
+  std::vector<Influence> inf_;  // the 4 largest (Log, PivotLog, the DLB pivot, vertex_motor)
+  // Every kept influence (CSR by vertex): weights().
+  std::vector<std::size_t> kept_begin_;
+  std::vector<std::pair<int, double>> kept_;
+  // By blocks of kLbsBlock consecutive vertices (LBS, DLB and the stretch phase of pose_affine, over the
+  // kept influences): the bones that weigh on block k are
   // lbs_bones_[lbs_begin_[k] .. lbs_begin_[k+1]), and entry e holds those vertices' weights for bone
   // lbs_bones_[e] at lbs_w_[e·kLbsBlock ...] (0 where a vertex has no influence of that bone). pose()
   // then runs bone by bone over a block, across its vertices: contiguous, vectorised arithmetic with no
@@ -132,6 +157,8 @@ class SkinDeformer {
   std::vector<Eigen::Matrix<double, 3, 4>> matrices_;  // LBS
   std::vector<ga::Dll> logs_;                          // Log: B; PivotLog: B²
   std::vector<double> signs_;                          // Linear: B²
+  std::vector<Eigen::Matrix<double, 3, 4>> stretch_;   // pose_affine: the stretches S_j
+  Eigen::MatrixXd stretched_;                          // pose_affine: the points after the stretch phase
 };
 
 }  // namespace spinmotor

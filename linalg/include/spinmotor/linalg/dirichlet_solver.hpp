@@ -77,6 +77,10 @@ class DirichletSolver {
   /// an index out of range or repeated (naming its position), FloatingComponentError for a component
   /// without a constrained unknown; Numerical if the factorization fails.
   void bind(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXi& constrained, Kind kind = Kind::SPD);
+  /// As above, where a component is also anchored by an unknown i with anchors[i] ≠ 0 (n entries): the
+  /// caller's diagonal term there (an attraction c_i > 0 added to a Laplacian) makes A_FF regular.
+  void bind(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXi& constrained, Kind kind,
+            const std::vector<char>& anchors);
   /// As above, with the rows of A_FF in the order `free_order` (the n − c unconstrained indices, each
   /// once, in any order; free() returns it). Throws Error (BadInput) if it is not exactly those.
   void bind(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXi& constrained,
@@ -107,7 +111,7 @@ class DirichletSolver {
 
  private:
   void bind_impl(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXi& constrained,
-                 const Eigen::VectorXi* free_order, Kind kind);
+                 const Eigen::VectorXi* free_order, Kind kind, const std::vector<char>* anchors = nullptr);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -1,58 +1,51 @@
 #pragma once
-// glTF 2.0 skinned characters: read a rig (surface, skeleton, skin weights, animations), evaluate its
-// joint and skinning transforms at any time, and write a baked animation back as glTF morph targets.
+// glTF 2.0 skinned characters, read as the file holds them: every skinned mesh of the scene (or those
+// named), its morph targets, the skins, the node hierarchy and the animations. Evaluating the file
+// (sampling an animation, the joint matrices, skinning) is deform/'s: deform/gltf_animation.hpp and
+// deform/gltf_skin.hpp. This header also writes and reads back baked morph-target animations.
 //
-// Spaces. POSITION data lives in the *mesh space* (the local frame of the skinned mesh node). The
-// skinning matrix of joint j is, as the glTF 2.0 spec and its skinning tutorial define it,
-//     S_j = W_mesh⁻¹ · W_j · IBM_j
-// (W the node's global matrix at the same time, IBM_j the inverse bind matrix, identity when the skin
-// has none), and a vertex moves to Σ_j w_j S_j v. Everything this header returns (positions, joint
-// rest frames, skinning matrices) is in mesh space, so for a file whose bind pose is its rest pose
-// (global(joint) · IBM = global(mesh node), true of the Khronos samples) S_j = I at rest and the rest
-// pose reproduces POSITION. W_mesh places the result in the scene (joint_world_matrices is in scene
-// space).
-//
-// What read_gltf keeps and checks (every problem throws spinmotor::Error "FILE: <element>: <what>"
-// naming the accessor index, node, mesh primitive or animation channel):
-//   - the skinned mesh: the first node (lowest index) that has both `mesh` and `skin`. All of its
-//     primitives are merged; each must be TRIANGLES (mode 4 or absent; strips, fans, lines and points
-//     are rejected), carry POSITION (VEC3 float) and JOINTS_0/WEIGHTS_0, and have no morph targets.
-//     `indices` (unsigned byte/short/int) are optional; indices ≥ the primitive's vertex count are an
-//     error. TEXCOORD_0 (float or normalised unsigned byte/short) is kept per corner.
-//   - welding: glTF splits a vertex wherever its UV or normal changes; file vertices whose positions
-//     are exactly equal (== on the stored floats, −0 == +0) become one surface vertex, so that a
-//     closed character is a closed manifold surface. file_to_surface maps each file vertex (primitives
-//     concatenated in order) to its surface vertex; the surface vertex takes the weights of its
-//     lowest-numbered file vertex, and file vertices whose (renormalised) weights differ from those by
-//     more than 1e-6 are counted in weld_weight_mismatches (max difference weld_weight_max_difference;
-//     a warning is added). Triangles that welding collapses (two equal corner positions) are dropped
-//     and counted.
-//   - UVs: Mesh::UV holds one row per file vertex, with v flipped (glTF's origin is the top-left of
-//     the image, OBJ's the bottom-left), and FUV the file vertex of each corner: seams survive.
-//   - weights: all sets JOINTS_n/WEIGHTS_n (n = 0, 1, ...; unsigned byte/short joints; float or
-//     normalised unsigned byte/short weights). A joint index ≥ joints.length (whatever its weight), a
-//     negative or non-finite weight or an all-zero row is an error. Rows are renormalised to sum 1;
-//     rows whose sum was off by more than 1e-5 are counted (renormalised_rows, over file vertices) and
-//     reported as a warning — exporters that drop influences beyond four leave such rows.
-//   - nodes: the whole hierarchy (parents from `children`; a node with two parents or a cycle is an
-//     error), each with `matrix` or T·R·S (rotation normalised). Sparse accessors are applied.
-//   - animations: channels on translation / rotation / scale with LINEAR (slerp for rotations), STEP
-//     or CUBICSPLINE samplers; key times must be finite and strictly increasing, outputs finite, of
-//     the right type and count. `weights` channels (morph targets) are skipped with a warning; a
-//     channel on a node given by `matrix` is an error (the spec forbids it).
-//   - scale: the motor representation (ScaledMotor) holds rigid motions with a uniform scale. A
-//     joint or the mesh node whose scale (rest or any animation key) is non-uniform by more than
-//     kGltfScaleTolerance (relative), or not positive, or whose `matrix` is not a similarity, is an
-//     error naming the node. Other nodes may scale freely: a transform common to the mesh node and
-//     the joints (a root's axis change) cancels in W_mesh⁻¹ W_j; one in between makes a joint's rest
-//     transform non-similar (error naming the joint) or, animated, a skinning transform (error from
-//     skinning_motors / rig_pose_motors naming the joint and the time). Uniform scales — and the
-//     float noise of exporters (0.9999998) — are kept exactly in the 4×4 matrices and folded into
-//     ScaledMotor::scale (cube root of the determinant) in the motor representation.
-//   - rejected: no skinned mesh node, extensionsRequired (Draco, quantisation, ...), NaN/Inf in any
-//     accessor read, an inverse bind matrix whose last row is not (0 0 0 1), fewer inverse bind
-//     matrices than joints, a joint listed twice.
-// Materials, textures, normals, cameras and other meshes are not read (images are not decoded).
+// What read_gltf keeps (glTF 2.0 specification, §3.7 "Meshes" and §3.8 "Skins"):
+//   - pieces: every node of the default scene (or of every node when the file has no scene) that has
+//     both `mesh` and `skin`, in node order, or those GltfReadOptions::meshes names (node or mesh
+//     name). Each piece's TRIANGLES primitives (mode 4 or absent; strips and fans are triangulated;
+//     LINES and POINTS primitives are skipped with a warning) are merged; each needs POSITION (float
+//     VEC3, or quantised integers under KHR_mesh_quantization) and JOINTS_0/WEIGHTS_0. `indices`
+//     (unsigned byte/short/int) are optional.
+//   - welding, per piece: file vertices of one piece whose positions are exactly equal (== on the stored
+//     floats, −0 == +0) become one surface vertex, so that a character split at UV seams and materials is
+//     one surface again. Pieces are never welded to each other. The surface of all pieces is `mesh`, piece
+//     after piece; file_to_surface maps each file vertex (pieces, then primitives, concatenated) to its
+//     surface vertex and surface_to_file each surface vertex to its lowest file vertex, whose weights
+//     and morph displacements it takes; file vertices welded to a vertex with other weights (> 1e-6) are
+//     counted (weld_weight_mismatches, a warning). Triangles that welding collapses are dropped and
+//     counted.
+//   - UVs: Mesh::UV holds one row per file vertex, v flipped (glTF's origin is the top-left of the
+//     image, OBJ's the bottom-left), and FUV the file vertex of each corner: seams survive.
+//   - weights: every set JOINTS_n/WEIGHTS_n (unsigned byte/short joints; float or normalised unsigned
+//     byte/short weights). A joint index ≥ the skin's joint count (with a non-zero weight), a negative
+//     or non-finite weight or an all-zero row is an error. Rows are renormalised to sum 1 (as Blender's
+//     armature does); rows whose sum is off 1 by more than their storage allows (1e-5 for floats, half a
+//     step per stored weight for normalised integers) are counted (renormalised_rows) and reported
+//     with the range of the sums.
+//   - joints: one per distinct (node, inverse bind matrix) over the skins the pieces use: with one skin,
+//     its joints in order. The weights matrix is n×J in this numbering. Inverse bind matrices are kept as
+//     stored (they may scale, rotate or place the bind space anywhere: the spec multiplies them by the
+//     joints' global matrices and ignores the skinned node's own transform).
+//   - morph targets (§3.7.2.2): the POSITION displacements of every target (a target without POSITION
+//     displaces nothing), in the piece's welded numbering; the default weights are the node's
+//     `weights`, else the mesh's, else 0; target names from mesh.extras.targetNames.
+//   - nodes: the whole hierarchy (a node with two parents or a cycle is an error), each with `matrix` or
+//     T·R·S (rotation normalised); sparse accessors are applied.
+//   - animations: channels on translation, rotation, scale and weights, LINEAR (slerp for rotations),
+//     STEP or CUBICSPLINE; key times finite and strictly increasing, outputs finite, of the right type and
+//     count. A `weights` channel on a node that is not a selected piece, or a channel without a target
+//     node, is ignored (counted in ignored_channels); a channel on a node given by `matrix` is an error.
+//   - rejected: no skinned mesh (or a named one that does not exist, listing those that do), a required
+//     extension that changes geometry (Draco, meshopt), NaN/Inf in any accessor read, an inverse bind
+//     matrix whose last row is not (0 0 0 1), fewer inverse bind matrices than joints, a joint listed twice
+//     in one skin, morph targets whose count differs between the primitives of a mesh.
+// Every problem throws spinmotor::Error "FILE: <element>: <what>" naming the accessor, node, mesh,
+// primitive, vertex or animation channel. Materials, images, normals and cameras are not read.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <Eigen/SparseCore>
@@ -60,29 +53,9 @@
 #include <string>
 #include <vector>
 
-#include "spinmotor/ga/interop.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 
 namespace spinmotor {
-
-/// Relative tolerance of the uniform-scale and similarity checks (exporter noise is ~1e-6).
-inline constexpr double kGltfScaleTolerance = 1e-4;
-
-/// A similarity x ↦ M (s x) ~M: a unit motor M (rotation, then translation) after a uniform scale s > 0.
-struct ScaledMotor {
-  ga::Mot motor{1, 0, 0, 0, 0, 0, 0, 0};
-  double scale = 1.0;
-};
-
-/// The similarity of a 4×4 matrix [s R  t; 0 0 0 1]: s = cbrt(det), R the rotation nearest to the
-/// linear part / s. Throws Error "<what>: ..." when the last row is not (0 0 0 1), an entry is not
-/// finite, det ≤ 0 (a reflection or a collapse), or |LᵀL / s² − I| > tolerance (shear or
-/// non-uniform scale).
-ScaledMotor scaled_motor(const Eigen::Matrix4d& m, const std::string& what,
-                         double tolerance = kGltfScaleTolerance);
-
-/// The 4×4 matrix of a similarity (inverse of scaled_motor up to its projection onto similarities).
-Eigen::Matrix4d to_matrix(const ScaledMotor& s);
 
 struct GltfNode {
   std::string name;  ///< the file's name, or "node <index>" when it has none
@@ -94,22 +67,18 @@ struct GltfNode {
   Eigen::Vector3d scale = Eigen::Vector3d::Ones();
 };
 
-enum class GltfPath { Translation, Rotation, Scale };
+enum class GltfPath { Translation, Rotation, Scale, Weights };
 enum class GltfInterpolation { Linear, Step, CubicSpline };
 
-/// One animated property of one node.
+/// One animated property of one node (sample it with deform/gltf_animation.hpp).
 struct GltfChannel {
   int node = -1;
   GltfPath path = GltfPath::Translation;
   GltfInterpolation interpolation = GltfInterpolation::Linear;
   Eigen::VectorXd times;  ///< k key times in seconds, strictly increasing
-  /// k×c values (c = 3, rotations c = 4 as x y z w, normalised for LINEAR and STEP); CUBICSPLINE:
-  /// 3k×c, per key in-tangent, value, out-tangent (the file's layout).
+  /// k×c values: c = 3 (translation, scale), 4 (rotation, x y z w, normalised for LINEAR and STEP) or the
+  /// node's morph target count (weights); CUBICSPLINE: 3k×c, per key in-tangent, value, out-tangent.
   Eigen::MatrixXd values;
-
-  /// The value at time t, clamped to [times(0), times(k−1)] (glTF spec, Appendix C "Interpolation").
-  /// Rotations: LINEAR is the shortest-arc slerp; every rotation result is normalised.
-  Eigen::VectorXd sample(double t) const;
 };
 
 struct GltfAnimation {
@@ -119,101 +88,126 @@ struct GltfAnimation {
   double duration() const { return end - start; }
 };
 
+/// One skinned mesh node of the file, welded: surface vertices [first_vertex, first_vertex + vertices)
+/// and faces [first_face, first_face + faces) of GltfRig::mesh.
+struct GltfPiece {
+  std::string name;  ///< the node's name, else the mesh's, else "mesh <index>"
+  int node = -1;     ///< the skinned node
+  int mesh = -1;     ///< the glTF mesh index
+  int skin = -1;     ///< index into GltfRig::skins
+  Eigen::Index first_vertex = 0, vertices = 0;
+  Eigen::Index first_face = 0, faces = 0;
+  /// File vertices of the piece's primitives, concatenated: [first_file_vertex, + file_vertices) of
+  /// file_to_surface; primitive p of the glTF mesh starts at file vertex primitive_start[p] (global),
+  /// skipped primitives (LINES, POINTS) have no vertices.
+  Eigen::Index first_file_vertex = 0, file_vertices = 0;
+  std::vector<Eigen::Index> primitive_start;
+  int dropped_faces = 0;  ///< triangles collapsed by welding
+  /// Morph targets: T POSITION displacement fields, each vertices×3 (the piece's surface vertices).
+  std::vector<Eigen::MatrixXd> targets;
+  std::vector<std::string> target_names;  ///< T names (mesh.extras.targetNames, else "target <k>")
+  Eigen::VectorXd default_weights;        ///< T weights at rest (node, else mesh, else 0)
+  Eigen::Index num_targets() const { return static_cast<Eigen::Index>(targets.size()); }
+};
+
+struct GltfSkin {
+  std::string name;         ///< the file's name, or "skin <index>"
+  int file_index = -1;      ///< index of the skin in the file
+  int skeleton = -1;        ///< the `skeleton` node, −1 when not given
+  std::vector<int> joints;  ///< the skin's joints in its own order, as indices into GltfRig's joints
+};
+
 struct GltfRig {
   std::filesystem::path file;
-  Mesh mesh;                        ///< welded surface in mesh space (UV per corner, see above)
-  Eigen::VectorXi file_to_surface;  ///< file vertex -> surface vertex
-  Eigen::Index file_vertices = 0;   ///< vertices of the file's primitives (before welding)
-  int dropped_faces = 0;            ///< triangles collapsed by welding
-  int mesh_node = -1;               ///< index into nodes of the skinned mesh node
-  std::string mesh_name;
-
   std::vector<GltfNode> nodes;  ///< the file's whole node hierarchy
+  std::vector<GltfPiece> pieces;
+  std::vector<GltfSkin> skins;  ///< the skins the pieces use
 
-  // Skeleton: J joints in the skin's order (JOINTS_n index into this list).
-  std::vector<int> joint_nodes;          ///< node index of each joint
-  std::vector<std::string> joint_names;  ///< the node names
-  std::vector<int> joint_parents;        ///< nearest ancestor that is a joint, −1 for none
-  /// Rest transform of each joint relative to its parent joint (root joints: relative to mesh space),
-  /// as similarities: composing them down the joint tree gives joint_rest_frames().
-  std::vector<ScaledMotor> joint_rest_local;
+  Mesh mesh;  ///< every piece's welded surface in its POSITION frame (UV per file vertex)
+  Eigen::VectorXi file_to_surface;  ///< file vertex -> surface vertex
+  Eigen::VectorXi surface_to_file;  ///< surface vertex -> its lowest file vertex
+  Eigen::Index file_vertices = 0;   ///< vertices of the pieces' primitives (before welding)
+  int dropped_faces = 0;            ///< over all pieces
+
+  // Joints: J entries (see the header comment).
+  std::vector<int> joint_nodes;               ///< node index of each joint
+  std::vector<std::string> joint_names;       ///< the node names
+  std::vector<int> joint_parents;             ///< nearest ancestor that is a joint, −1 for none
+  std::vector<int> joint_skins;               ///< the first skin (index into skins) that lists the joint
   std::vector<Eigen::Matrix4d> inverse_bind;  ///< IBM_j (identity when the skin has none)
 
   Eigen::SparseMatrix<double> weights;  ///< n×J surface weights, rows sum to 1
-  int renormalised_rows = 0;            ///< file vertices whose weight sum differed from 1 by > 1e-5
-  double min_weight_sum = 1.0;          ///< the smallest row sum in the file
-  int weld_weight_mismatches = 0;       ///< welded file vertices whose weights differ (> 1e-6)
+  int renormalised_rows = 0;  ///< file vertices whose weight sum is off 1 by more than storage precision
+  double min_weight_sum = 1.0, max_weight_sum = 1.0;  ///< over the file's rows
+  int weld_weight_mismatches = 0;                     ///< welded file vertices whose weights differ (> 1e-6)
   double weld_weight_max_difference = 0.0;
 
   std::vector<GltfAnimation> animations;
-  std::vector<std::string> warnings;  ///< renormalised weights, skipped channels, ...
+  int ignored_channels = 0;           ///< channels on nothing read (weights of other meshes, no target)
+  std::vector<std::string> warnings;  ///< renormalised weights, weld mismatches, skipped primitives, ...
 
   Eigen::Index num_joints() const { return static_cast<Eigen::Index>(joint_nodes.size()); }
+  /// The piece holding surface vertex v (Error for a vertex out of range).
+  int piece_of_vertex(Eigen::Index v) const;
+  /// Where surface vertex v comes from, in the file's own numbering: "mesh 'Body' primitive 2 vertex 17"
+  /// (the vertex's lowest file vertex; the index is the primitive's own).
+  std::string vertex_label(Eigen::Index v) const;
 };
 
-/// Reads a .gltf (buffers as data: URIs or side files) or .glb. See the header comment for what is
-/// read and rejected. Throws Error naming the file and the element.
-GltfRig read_gltf(const std::filesystem::path& path);
+struct GltfReadOptions {
+  /// Pieces to read by node or mesh name (every one must exist); empty: every skinned mesh of the scene.
+  std::vector<std::string> meshes;
+};
 
-/// Time of frame f of n (n ≥ 1) evenly spread over [start, end] of the animation (n = 1: start).
-double gltf_frame_time(const GltfAnimation& anim, int f, int n);
+/// Reads a .gltf (buffers as data: URIs or side files in its folder) or .glb. See the header comment for
+/// what is read and rejected. Throws Error naming the file and the element.
+GltfRig read_gltf(const std::filesystem::path& path, const GltfReadOptions& options = {});
 
-/// The local matrix of every node at time t of animation `anim` (an index into rig.animations, or −1
-/// for the rest pose): the node's `matrix`, or T·R·S with the animated properties replacing the rest
-/// ones. Throws Error for an animation index out of range or a non-finite t.
-std::vector<Eigen::Matrix4d> node_local_matrices(const GltfRig& rig, int anim, double t);
+/// Names of the skinned meshes of a file (node name, mesh name) in the order read_gltf reads them,
+/// without reading their data. Throws Error as read_gltf for a file that cannot be parsed.
+std::vector<std::pair<std::string, std::string>> gltf_skinned_meshes(const std::filesystem::path& path);
 
-/// The global (scene) matrix of every node: parent global · local, from the roots down.
-std::vector<Eigen::Matrix4d> node_world_matrices(const GltfRig& rig, int anim, double t);
-
-/// The scene-space matrices W_j of the joints (J, skin order).
-std::vector<Eigen::Matrix4d> joint_world_matrices(const GltfRig& rig, int anim, double t);
-
-/// The skinning matrices S_j = W_mesh⁻¹ W_j IBM_j (mesh space to mesh space).
-std::vector<Eigen::Matrix4d> skinning_matrices(const GltfRig& rig, int anim, double t);
-
-/// The skinning transforms as similarities (scaled_motor of each S_j; Error naming the joint when one
-/// is not a similarity).
-std::vector<ScaledMotor> skinning_motors(const GltfRig& rig, int anim, double t);
-
-/// Rest frames of the joints in mesh space, W_mesh⁻¹ W_j at the rest pose, as similarities.
-std::vector<ScaledMotor> joint_rest_frames(const GltfRig& rig);
-
-/// The glTF reference skinning with plain matrices: row i = Σ_j w_ij S_j v_i for the surface
-/// vertices (n×3, mesh space). The rest pose gives mesh.V up to the file's bind-pose accuracy.
-Eigen::MatrixXd skin_positions(const GltfRig& rig, int anim, double t);
+/// A piece of a surface written as its own glTF mesh and node: vertices [first_vertex, + vertices) and
+/// faces [first_face, + faces) (the faces use only the piece's vertices).
+struct GltfMorphPiece {
+  std::string name;
+  Eigen::Index first_vertex = 0, vertices = 0, first_face = 0, faces = 0;
+};
 
 /// Writes a baked animation as glTF 2.0 (.gltf with the buffer as a data: URI, or .glb by extension):
-/// one mesh node holding `rest` (UVs, if any, un-welded into glTF vertices at seams and flipped back)
-/// and one morph target per frame (POSITION displacements frames[f] − rest.V), driven by a STEP
-/// `weights` animation that is one-hot on target f from times[f] on. So Blender, three.js, ... play
-/// the baked frames (targets named "frame 0000", ... in mesh.extras.targetNames, which Blender uses for
-/// the shape keys). `node_matrix` is the node's matrix (for a rig: the mesh node's rest global matrix,
-/// so the result sits in the scene as the source did; it must be affine). Sizes: frames[f] n×3, times
-/// strictly increasing, as many as frames. Positions are stored as float32. Atomic; throws Error naming
-/// the frame for a size mismatch or non-finite entry.
+/// one mesh node per piece (default: one piece, the whole of `rest`, named `name`), each holding its part
+/// of `rest` (UVs, if any, un-welded into glTF vertices at seams and flipped back) and one morph target
+/// per frame (POSITION displacements frames[f] − rest.V), driven by a STEP `weights` animation that is
+/// one-hot on target f from times[f] on. So Blender, three.js, ... play the baked frames (targets named
+/// "frame 0000", ... in mesh.extras.targetNames, which Blender uses for the shape keys). The piece nodes
+/// are children of one root node whose matrix is `node_matrix` (it must be affine). Sizes: frames[f]
+/// n×3, times strictly increasing, as many as frames. Positions are stored as float32. Atomic; throws
+/// Error naming the frame or piece for a size mismatch or non-finite entry.
 void write_gltf_morph_animation(const std::filesystem::path& path, const Mesh& rest,
                                 const std::vector<Eigen::MatrixXd>& frames, const std::vector<double>& times,
                                 const std::string& name = "baked",
-                                const Eigen::Matrix4d& node_matrix = Eigen::Matrix4d::Identity());
+                                const Eigen::Matrix4d& node_matrix = Eigen::Matrix4d::Identity(),
+                                const std::vector<GltfMorphPiece>& pieces = {});
 
 /// A baked morph-target animation read back (the output of write_gltf_morph_animation, or any glTF
-/// whose first mesh node has POSITION morph targets).
+/// whose mesh nodes carry POSITION morph targets).
 struct GltfMorphAnimation {
   Mesh mesh;  ///< the base surface, welded like read_gltf (UV/FUV per file vertex, v flipped)
   std::vector<Eigen::MatrixXd> frames;  ///< per target: base + displacement (n×3, welded vertices)
   std::vector<double> times;            ///< per target: its key time in the first `weights` animation
-  Eigen::Matrix4d node_matrix = Eigen::Matrix4d::Identity();  ///< the mesh node's global matrix
-  std::string name;                                           ///< the mesh's name
+  Eigen::Matrix4d node_matrix = Eigen::Matrix4d::Identity();  ///< the first mesh node's global matrix
+  std::string name;                                           ///< the first mesh's name
+  std::vector<GltfMorphPiece> pieces;                         ///< one per mesh node read
 };
 
-/// Reads the first node (lowest index) with a mesh whose primitives carry POSITION morph targets:
-/// primitives merged (TRIANGLES, POSITION float VEC3, the same number of targets, each with a float
-/// VEC3 POSITION), file vertices with equal base positions welded (a welded vertex takes the frame
-/// positions of its first file vertex). Target f's time is the first key of the first animation channel
-/// on the node's `weights` where target f's weight is the largest (a one-hot STEP animation as written
-/// above gives back its times); without such a channel, times are 0, 1, 2, ... The node matrix is the
-/// product of its ancestors' rest matrices and its own. Throws Error naming the file and the element.
+/// Reads every node (in index order) with a mesh whose primitives carry POSITION morph targets, each
+/// with the same number of targets: primitives merged (TRIANGLES, POSITION float VEC3, each target
+/// with a float VEC3 POSITION), file vertices of one node with equal base positions welded (a welded
+/// vertex takes the frame positions of its first file vertex), the nodes' surfaces concatenated (in
+/// their own coordinates: the first node's global matrix is node_matrix). Target f's time is the first
+/// key of the first animation channel on the first node's `weights` where target f's weight is the
+/// largest (a one-hot STEP animation as written above gives back its times); without such a channel,
+/// times are 0, 1, 2, ... Throws Error naming the file and the element.
 GltfMorphAnimation read_gltf_morph_animation(const std::filesystem::path& path);
 
 }  // namespace spinmotor

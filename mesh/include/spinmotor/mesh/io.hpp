@@ -38,6 +38,9 @@
 // comes back as 0.3333333432674408) and accept a truncated ASCII PLY silently; its STL reader drops
 // degenerate triangles. The hand-written readers here keep everything and name the bad line.
 #include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "spinmotor/mesh/mesh.hpp"
 
@@ -52,6 +55,9 @@ MeshFormat mesh_format(const std::filesystem::path& path);
 /// Options for write_mesh.
 struct WriteOptions {
   bool binary = true;  ///< PLY and STL: binary (little-endian) or ASCII; OBJ and OFF are always ASCII
+  /// OBJ: named objects, each (name, first face) in increasing first-face order: an `o name` line before
+  /// that face (importers make one object of each). Other formats have no objects and ignore it.
+  std::vector<std::pair<std::string, Eigen::Index>> objects;
 };
 
 /// Reads a mesh, format by extension. Output: V (n×3), F (m×3, file order), and for OBJ with vt
@@ -68,7 +74,8 @@ Mesh read_obj(const std::filesystem::path& path);
 Mesh read_off(const std::filesystem::path& path);
 Mesh read_ply(const std::filesystem::path& path);
 Mesh read_stl(const std::filesystem::path& path);
-void write_obj(const std::filesystem::path& path, const Mesh& mesh);
+void write_obj(const std::filesystem::path& path, const Mesh& mesh,
+               const std::vector<std::pair<std::string, Eigen::Index>>& objects = {});
 void write_off(const std::filesystem::path& path, const Mesh& mesh);
 void write_ply(const std::filesystem::path& path, const Mesh& mesh, bool binary = true);
 void write_stl(const std::filesystem::path& path, const Mesh& mesh, bool binary = true);

@@ -61,8 +61,10 @@ class SceneDeformer {
   /// after inheritance, and for a rig the animation at pose.time with the edits on top).
   void motors(const Pose& pose, std::vector<ga::Mot>& out) const;
   /// The skin's bones and weights (skin deformers only, else null).
-  const SkinBinding* skin() const { return skin_ ? &*skin_ : nullptr; }
-  void set_skin(SkinBinding skin) { skin_ = std::move(skin); }
+  const SkinBinding* skin() const { return skin_.get(); }
+  /// The same, shared (a worker thread that binds the rig cleanup keeps it).
+  std::shared_ptr<const SkinBinding> shared_skin() const { return skin_; }
+  void set_skin(SkinBinding skin) { skin_ = std::make_shared<const SkinBinding>(std::move(skin)); }
   /// Per-frame figures merged into the metrics JSON, at least "max_handle_error" (max distance of a
   /// handle vertex from where its own motor takes it; null when the deformer has no such notion).
   nlohmann::json report(const Pose& pose, const Eigen::MatrixXd& V_out) const;
@@ -76,7 +78,7 @@ class SceneDeformer {
   nlohmann::json bind_report_;
   Motors motors_of_;
   std::vector<ga::Mot> motors_;
-  std::optional<SkinBinding> skin_;
+  std::shared_ptr<const SkinBinding> skin_;
 };
 
 /// The pins of the pose-keeping cleanup of a skinned pose (deform/rig_pins.hpp): the vertices whose

@@ -25,6 +25,7 @@
 
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/deform/deformer.hpp"
+#include "spinmotor/deform/gltf_skin.hpp"
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/gltf.hpp"
 #include "spinmotor/mesh/mesh.hpp"
@@ -87,6 +88,7 @@ struct SnapSpec {
 struct RigSpec {
   std::filesystem::path file;           ///< the glTF file (resolved against the scene's directory)
   std::shared_ptr<const GltfRig> gltf;  ///< as read_gltf returned it (shared by copies of the scene)
+  std::shared_ptr<const RigSkin> skin;  ///< its rest surface (the scene's mesh), bones and bind matrices
   int animation = -1;         ///< the animation index the frames sample, −1 when the file has none
   std::vector<double> times;  ///< one per frame (empty: the rest pose)
 };

@@ -11,6 +11,9 @@ namespace spinmotor {
 struct MetricsOptions {
   Alignment alignment = Alignment::None;  ///< factored out before the vertex distances only
   bool willmore = true;                   ///< also compute the Willmore energies (one Laplacian each)
+  /// Leave degenerate rest faces (zero area, where Q and the area ratio are undefined) out of every
+  /// measure and count them, instead of the error (production meshes carry a few).
+  bool skip_degenerate_rest = false;
 };
 
 struct DeformationMetrics {
@@ -30,6 +33,10 @@ struct DeformationMetrics {
   Similarity transform;                   ///< the alignment applied to the deformed positions
   std::optional<double> willmore_rest;    ///< ∫H² dA of the rest mesh (if asked)
   std::optional<double> willmore_deformed;  ///< of the deformed mesh (if asked and no face collapsed)
+  /// Enclosed volume of the deformed mesh / of the rest mesh (signed, Σ_f v0·(v1×v2)/6), when the rest
+  /// mesh is closed (no boundary edge) with a non-zero volume.
+  std::optional<double> volume_ratio;
+  Eigen::Index degenerate_rest_faces = 0;  ///< left out (skip_degenerate_rest)
 };
 
 /// Inputs: V_rest (n×3), F (m×3), V_def (n×3), options. Output: every metric above (see

@@ -4,8 +4,9 @@
 //
 // Keys: vertices, faces, q_mean, q_max, collapsed_faces, area_distortion, area_distortion_max,
 // area_scale, edge_distortion, edge_distortion_max, rms, max, diagonal, alignment
-// ("none" | "translation" | "rigid" | "similarity"), alignment_scale, willmore_rest and
-// willmore_deformed (present only when computed). JSON has no infinity: a non-finite value (q_max
+// ("none" | "translation" | "rigid" | "similarity"), alignment_scale, and, present only when computed:
+// volume_ratio (closed rest meshes), degenerate_rest_faces (when some were skipped), willmore_rest and
+// willmore_deformed. JSON has no infinity: a non-finite value (q_max
 // with a collapsed face) is written as null, and collapsed_faces says why.
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -38,6 +39,8 @@ inline void to_json(nlohmann::json& j, const DeformationMetrics& m) {
                      {"diagonal", finite_or_null(m.diagonal)},
                      {"alignment", std::string(option_name(m.alignment))},
                      {"alignment_scale", finite_or_null(m.transform.scale)}};
+  if (m.volume_ratio) j["volume_ratio"] = finite_or_null(*m.volume_ratio);
+  if (m.degenerate_rest_faces > 0) j["degenerate_rest_faces"] = m.degenerate_rest_faces;
   if (m.willmore_rest) j["willmore_rest"] = finite_or_null(*m.willmore_rest);
   if (m.willmore_deformed) j["willmore_deformed"] = finite_or_null(*m.willmore_deformed);
 }

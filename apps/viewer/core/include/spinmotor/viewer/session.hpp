@@ -114,18 +114,12 @@ class Session {
   /// The skin's bones where the working pose puts them: K_j = F_j ~F_j^0 applied to the rest head and tail
   /// (a rig: the animation at the time with the edits on top). Empty unless the deformer is a skin.
   std::vector<PosedBone> posed_bones();
-  /// The pins of the pose-keeping cleanup ("keep the pose"): every handle's vertices, or for a skin
-  /// scene without handles the skin's rigid parts (scene::skin_pins, default threshold and margins).
-  /// Empty when neither applies.
+  /// The pins of the pose-keeping cleanup ("keep the pose") of a scene with handles: every handle's
+  /// vertices (empty without handles).
   std::vector<int> cleanup_pins();
-  /// The pose attraction that goes with cleanup_pins(): for a skin scene without handles the rig
-  /// defaults (scene/rig_cleanup.hpp: γ = RigCleanupOptions::pose_weight, weights from the skin),
-  /// else none (γ = 0: the handles alone).
-  struct CleanupAttraction {
-    double pose_weight = 0;
-    Eigen::VectorXd weights;  ///< per vertex, empty when pose_weight = 0
-  };
-  CleanupAttraction cleanup_attraction();
+  /// For a skin scene without handles, the skin the rig cleanup binds to (scene/rig_cleanup.hpp: pins and
+  /// attraction from its weights, the rig defaults); null otherwise.
+  std::shared_ptr<const scene::SkinBinding> cleanup_skin() const;
   /// The motor a gizmo drag of `name` starts from: its pose entry, or for a skin bone without one the
   /// motion it inherits from its nearest posed ancestor (what pose() applies to it).
   ga::Mot drag_start_motor(const std::string& name) const;
@@ -158,7 +152,6 @@ class Session {
   std::unique_ptr<scene::Scene> scene_ = std::make_unique<scene::Scene>();
   std::unique_ptr<scene::SceneDeformer> deformer_;
   std::vector<std::string> controls_;
-  std::optional<std::vector<int>> cleanup_pins_;  ///< cached per bind
   scene::Pose pose_;
   UndoStack<scene::Pose> history_{scene::Pose{}};
   Eigen::MatrixXd V_;
