@@ -95,6 +95,34 @@ void truncate(const Eigen::MatrixXd& A, const Eigen::MatrixXd& scale, double tol
   }
 }
 
+/// Weights in [0, 1] for the same sums (Blender's importer clamps shape-key values to [0, 1]): each column c
+/// with range [a_c, b_c] becomes u_c = (w_c − a_c) / (b_c − a_c) on the target (b_c − a_c) D_c, and the
+/// shifts Σ_c a_c D_c one more target with weight 1 on every frame (a constant column is folded in whole).
+void to_unit_weights(std::vector<Eigen::MatrixXd>& targets, Eigen::MatrixXd& weights) {
+  if (targets.empty()) return;
+  std::vector<Eigen::MatrixXd> out;
+  Eigen::MatrixXd offset = Eigen::MatrixXd::Zero(targets[0].rows(), 3), w(weights.rows(), 0);
+  for (size_t c = 0; c < targets.size(); ++c) {
+    const Eigen::Index k = static_cast<Eigen::Index>(c);
+    const double a = weights.col(k).minCoeff(), b = weights.col(k).maxCoeff();
+    offset += a * targets[c];
+    if (!(b - a > 1e-12 * std::max(std::abs(a), std::abs(b)))) {
+      offset += (b - a) * targets[c];  // constant: all of it in the offset (b = a to rounding)
+      continue;
+    }
+    out.push_back((b - a) * targets[c]);
+    w.conservativeResize(Eigen::NoChange, w.cols() + 1);
+    w.col(w.cols() - 1) = (weights.col(k).array() - a) / (b - a);
+  }
+  if (offset.cwiseAbs().maxCoeff() > 0) {
+    out.push_back(offset);
+    w.conservativeResize(Eigen::NoChange, w.cols() + 1);
+    w.col(w.cols() - 1).setOnes();
+  }
+  targets = std::move(out);
+  weights = std::move(w);
+}
+
 /// The output animation: the cleaned animation's channels, with a weights channel per piece with
 /// correctives (the file's weights sampled at the frame times, then the corrective weights).
 GltfAnimation corrective_animation(const GltfRig& rig, int anim, const std::vector<double>& times,
@@ -159,6 +187,7 @@ CorrectiveRig corrective_rig(const GltfRig& rig, int anim, const std::vector<dou
   for (size_t p = 0; p < rig.pieces.size(); ++p) {
     std::vector<Eigen::MatrixXd> targets;
     truncate(delta[p], scale[p], o.max_error * diag, o.max_targets, targets, weights[p]);
+    to_unit_weights(targets, weights[p]);
     GltfPiece& piece = out.rig.pieces[p];
     const Eigen::Index T = piece.num_targets(), K = static_cast<Eigen::Index>(targets.size());
     out.targets.push_back(static_cast<int>(K));

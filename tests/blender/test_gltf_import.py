@@ -37,8 +37,8 @@ What Blender cannot represent, measured and printed, not hidden in the tolerance
   what glTF does when the node's own TRS is the bind pose (every file here: the rest pose is compared too).
 - Morph-target weights outside the shape key's slider range. Blender clamps a shape key's value to
   [slider_min, slider_max] (0..1 by default); the 3.4 importer widens the range from the first key only
-  (gltf2_blender_animation_weight.py, `min(coords[1:2])`), so negative weights later in a channel are
-  clamped. Measured as imported, then with the slider ranges widened to the fcurves' range (asserted).
+  (gltf2_blender_animation_weight.py, `min(coords[1:2])`), so negative weights later in a channel would be
+  clamped. The corrective export keeps its weights in [0, 1] for this reason: the test asserts no clamp.
 
 Then the corrective export: Rig.bake(..., cleanup="pinned", mode="correctives") for the mixamo character and the
 Fox, imported in Blender and evaluated at the bake's times: the point sets within the bake's max_error (relative
@@ -482,6 +482,8 @@ def check_correctives(sm, path, label, scratch):
     for ob, kb, lo, hi in clamps:
         print(f"  {label}: {ob.name} key '{kb.name}': weights {lo:.4f} .. {hi:.4f} outside its slider range "
               f"[{kb.slider_min:g}, {kb.slider_max:g}] (the importer widens it from the first key only)")
+    # The corrective weights lie in [0, 1] (deform/gltf_correctives.hpp): nothing may be clamped as imported.
+    assert not clamps, f"{label}: corrective weights outside the shape keys' slider range: {clamps}"
     variants = ["as imported"] + (["sliders widened"] if clamps else [])
     ranges = [(kb, kb.slider_min, kb.slider_max, lo, hi) for _, kb, lo, hi in clamps]
     asserted = (variants[-1], True)

@@ -282,6 +282,8 @@ TEST_CASE(
       total += cr.targets[p];
       CHECK(cr.rig.pieces[p].num_targets() == rig.pieces[p].num_targets() + cr.targets[p]);
     }
+    for (const GltfChannel& c : cr.rig.animations.at(0).channels)  // Blender clamps shape keys to [0, 1]
+      if (c.path == GltfPath::Weights) CHECK((c.values.minCoeff() >= 0 && c.values.maxCoeff() <= 1 + 1e-15));
     CHECK(cr.targets[1] == 0);  // the head moves rigidly: no corrective
     CHECK(cr.targets[6] == 0);  // nor its cap
     CHECK(total > 0);

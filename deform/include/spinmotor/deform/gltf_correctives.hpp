@@ -13,8 +13,11 @@
 // between frames by a LINEAR weights channel. K is the smallest count whose scene-space error
 // max_{i,f} |M_i(f) (δ_i(f) − δ̃_i(f))| is at most max_error × the rest surface's bounding-box diagonal
 // (bounded above with |M_i(f)|_F while choosing K, measured exactly for the result), at most
-// max_targets. A piece whose offsets are all zero (rigid pieces, pieces the cleanup left alone) gets no
-// target.
+// max_targets. The weights are then mapped into [0, 1] for the same sums (Blender's importer clamps
+// shape-key values there): target c becomes (b_c − a_c) D_c with weight (v_c − a_c) / (b_c − a_c), [a_c, b_c]
+// the range of v_c over the frames, and one more target Σ_c a_c D_c carries weight 1 on every frame, so a
+// piece gets K + 1 targets. A piece whose offsets are all zero (rigid pieces, pieces the cleanup left
+// alone) gets no target.
 //
 // Output: the rig with, per piece, its K_p targets appended ("spinmotor_corrective_NN", default weight 0)
 // and one animation: the cleaned animation's joint channels as they are, and per piece with targets a
