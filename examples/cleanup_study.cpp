@@ -46,6 +46,7 @@
 #include "spinmotor/deform/rig_pins.hpp"
 #include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/ga.hpp"
+#include "spinmotor/ga/rotor_fit.hpp"
 #include "spinmotor/mesh/generators.hpp"
 #include "spinmotor/mesh/gltf.hpp"
 #include "spinmotor/mesh/io.hpp"
@@ -228,10 +229,8 @@ void rig_study(const std::filesystem::path& dir, const std::filesystem::path& ou
       const double t = anim.start + frac * anim.duration();
       std::vector<ga::Mot> frames;  // the rigid joint transforms T_j(t) (gltf_skin.hpp) as motors
       for (const SkinDeformer::Affine& T : rig_joint_transforms(rig, skin, 0, t)) {
-        const Eigen::JacobiSVD<Eigen::Matrix3d> svd(T.leftCols<3>(),
-                                                    Eigen::ComputeFullU | Eigen::ComputeFullV);
         Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
-        M.linear() = svd.matrixU() * svd.matrixV().transpose();
+        M.linear() = ga::closest_rotation(T.leftCols<3>());
         M.translation() = T.col(3);
         frames.push_back(ga::normalize(ga::from_isometry(M)));
       }

@@ -373,8 +373,12 @@ void stage_gltf_rig(Demo& d) {
   const double io_ms = ms_since(t0);
   const int walk = 0;
   const double t = 0.25;  // mid-stride
-  scene::RigPoser lbs_poser(rig, {.animation = walk, .blend = SkinBlend::LBS});
-  scene::RigPoser dlb_poser(rig, {.animation = walk, .blend = SkinBlend::Linear});
+  scene::RigPoseOptions po;
+  po.animation = walk;
+  po.blend = SkinBlend::LBS;
+  scene::RigPoser lbs_poser(rig, po);
+  po.blend = SkinBlend::Linear;
+  scene::RigPoser dlb_poser(rig, po);
   const Mesh& rest = lbs_poser.rig_skin().rest;
   Mesh lbs = rest, dlb = rest;
   t0 = std::chrono::steady_clock::now();
@@ -398,8 +402,10 @@ void stage_gltf_rig(Demo& d) {
   d.row("rig pose (DLB, walk t = 0.25 s)", dlb, std::nan(""), md.q_mean, md.q_max, "character-dlb.obj");
   // The pose-keeping cleanup with the rig defaults (scene/rig_cleanup.hpp), piece by piece.
   t0 = std::chrono::steady_clock::now();
-  scene::RigPoseOptions co{
-      .animation = walk, .blend = SkinBlend::LBS, .cleanup = scene::RigCleanupMode::Pinned};
+  scene::RigPoseOptions co;
+  co.animation = walk;
+  co.blend = SkinBlend::LBS;
+  co.cleanup = scene::RigCleanupMode::Pinned;
   co.cleanup_options.cleanup.warm_start = true;
   scene::RigPoser poser(rig, co);
   const double bind_ms = ms_since(t0);

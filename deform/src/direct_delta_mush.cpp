@@ -1,6 +1,5 @@
 #include "spinmotor/deform/direct_delta_mush.hpp"
 
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -8,6 +7,7 @@
 #include "mush_detail.hpp"
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/core/parallel.hpp"
+#include "spinmotor/ga/rotor_fit.hpp"
 #include "spinmotor/linalg/cholesky_solver.hpp"
 
 namespace spinmotor {
@@ -184,14 +184,7 @@ void DirectDeltaMushDeformer::pose(std::span<const ga::Mot> frames, Eigen::Matri
     }
     const Eigen::Vector3d pbar = pm / s, qrel = qm / s;  // q̄ = c_ref + qrel
     const Eigen::Matrix3d M = G / s - qrel * pbar.transpose();
-    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    Eigen::Matrix3d U = svd.matrixU();
-    const Eigen::Matrix3d& V = svd.matrixV();
-    Eigen::Matrix3d R = U * V.transpose();
-    if (R.determinant() < 0.0) {
-      U.col(2) = -U.col(2);  // the smallest singular value's direction
-      R = U * V.transpose();
-    }
+    const Eigen::Matrix3d R = ga::closest_rotation(M);  // a proper rotation also when det M < 0
     const Eigen::Vector3d out = c_ref + (qrel - R * pbar);
     V_out(i, 0) = out.x(), V_out(i, 1) = out.y(), V_out(i, 2) = out.z();
   }

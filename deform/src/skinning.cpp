@@ -1,6 +1,5 @@
 #include "spinmotor/deform/skinning.hpp"
 
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -12,6 +11,7 @@
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/core/parallel.hpp"
 #include "spinmotor/deform/motor_blend_field.hpp"
+#include "spinmotor/ga/rotor_fit.hpp"
 
 namespace spinmotor {
 
@@ -359,9 +359,9 @@ void SkinDeformer::pose_affine(std::span<const Affine> transforms, const Eigen::
   bool stretched = false;
   for (std::size_t j = 0; j < B; ++j) {
     const Eigen::Matrix3d L = transforms[j].leftCols<3>();
-    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(L, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    const Eigen::Matrix3d R = svd.matrixU() * svd.matrixV().transpose();  // det > 0: det L > 0
-    const Eigen::Matrix3d S = svd.matrixV() * svd.singularValues().asDiagonal() * svd.matrixV().transpose();
+    const Eigen::Matrix3d R = ga::closest_rotation(L);  // L = R S, the polar decomposition (det L > 0)
+    const Eigen::Matrix3d S0 = R.transpose() * L;
+    const Eigen::Matrix3d S = 0.5 * (S0 + S0.transpose());  // symmetric to roundoff
     const Eigen::Vector3d c = bones_[j].head;
     const bool rigid = (S - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-9;
     stretched = stretched || !rigid;

@@ -119,8 +119,10 @@ Errors: spinmotor.Error naming the file and line (unsupported extension, syntax,
           mesh.UV = to_matrix(UV, "UV", -1, 2);
           mesh.FUV = to_int_matrix(FUV, "FUV", mesh.F.rows(), 3);
         }
+        WriteOptions wo;
+        wo.binary = binary;
         py::gil_scoped_release release;
-        write_mesh(path, mesh, WriteOptions{.binary = binary});
+        write_mesh(path, mesh, wo);
       },
       py::arg("path"), py::arg("V"), py::arg("F"), py::arg("UV") = py::none(), py::arg("FUV") = py::none(),
       py::arg("binary") = WriteOptions{}.binary, R"doc(

@@ -55,7 +55,7 @@ std::unique_ptr<SceneDeformer> bind_arap(const Scene& s) {
                  {"global_ms", r.global_ms},
                  {"rhs_ms", r.rhs_ms},
                  {"solve_ms", r.solve_ms},
-                 {"jacobi_rotations", r.jacobi_rotations}};
+                 {"fallback_fits", r.fallback_fits}};
     return j;
   };
   return std::make_unique<SceneDeformer>(s, std::move(d), report, bind_report);

@@ -7,7 +7,6 @@
 // Weight files (relative to the scene file): "*.json" is docs/scene.md's {"bones": [names], "weights": [[w
 // per bone] per vertex]} (errors name the file and the JSON pointer); any other extension is the text format
 // of read_skin_weights (errors name file:line).
-#include <Eigen/SVD>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -17,6 +16,7 @@
 #include "spinmotor/deform/direct_delta_mush.hpp"
 #include "spinmotor/deform/gltf_skin.hpp"
 #include "spinmotor/deform/skinning.hpp"
+#include "spinmotor/ga/rotor_fit.hpp"
 #include "spinmotor/scene/deformer_registry.hpp"
 
 namespace spinmotor::scene {
@@ -101,9 +101,8 @@ ga::Mot rigid_joint_motor(const SkinDeformer::Affine& T, const std::string& bone
       << ": a scene's skin poses bones with rigid motions (`spinmotor rig pose` skins such rigs)";
     throw Error(s.str());
   }
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(L, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
-  M.linear() = svd.matrixU() * svd.matrixV().transpose();
+  M.linear() = ga::closest_rotation(L);  // the float noise of a rigid L projected onto SO(3)
   M.translation() = T.col(3);
   return ga::normalize(ga::from_isometry(M));
 }

@@ -60,23 +60,6 @@ std::string b64encode(const std::vector<uint8_t>& in) {
   return out;
 }
 
-std::vector<uint8_t> b64decode(const std::string& s) {
-  std::vector<uint8_t> out;
-  uint32_t acc = 0;
-  int bits = 0;
-  for (char c : s) {
-    const char* p = std::strchr(kB64, c);
-    if (c == '=' || !p || !c) continue;
-    acc = (acc << 6) | static_cast<uint32_t>(p - kB64);
-    bits += 6;
-    if (bits >= 8) {
-      bits -= 8;
-      out.push_back(static_cast<uint8_t>((acc >> bits) & 0xff));
-    }
-  }
-  return out;
-}
-
 // ---- a tiny rig written by the test ------------------------------------------------------------------
 //
 // A bar in the xy plane, x ∈ [0, 2], y ∈ [0, 1]: two quads (four triangles). File vertex 4 repeats the

@@ -161,7 +161,8 @@ TEST_CASE("rig cleanup: every piece of a many-piece, non-manifold surface gets a
   CHECK(bow.degenerate == 1);
   CHECK(lone.status == RigPieceStatus::Pinned);
   CHECK(lone.vertices.size() == 1);
-  CHECK(rc.cleaned_vertices() == arm.vertices.size() + cape.vertices.size() + bow.vertices.size());
+  CHECK(static_cast<size_t>(rc.cleaned_vertices()) ==
+        arm.vertices.size() + cape.vertices.size() + bow.vertices.size());
 
   const Eigen::MatrixXd E = lbs(p, 70);
   Eigen::MatrixXd V;
@@ -337,7 +338,7 @@ TEST_CASE("rig pose --bake correctives and --json through the CLI, bad options e
   REQUIRE(r.code == 0);
   WARN("9 cleaned frames: correctives " << fs::file_size(tmp.path / "fix.glb") << " bytes, per-frame bake "
                                         << fs::file_size(tmp.path / "frames.glb") << " bytes");
-  for (const std::string args :
+  for (const std::string& args :
        {"--bake correctives --out " + tmp.file("x.obj"),
         "--bake correctives --space mesh --out " + tmp.file("x.glb"),
         "--bake sideways --out " + tmp.file("x.glb"), "--mesh Nope --out " + tmp.file("x.glb"),

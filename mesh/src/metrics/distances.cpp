@@ -1,8 +1,7 @@
 #include "spinmotor/mesh/metrics/distances.hpp"
 
-#include <Eigen/SVD>
-
 #include "metric_checks.hpp"
+#include "spinmotor/ga/rotor_fit.hpp"
 
 namespace spinmotor {
 
@@ -18,14 +17,14 @@ Similarity umeyama_fit(const Eigen::MatrixXd& src, const Eigen::MatrixXd& dst, b
   const Eigen::MatrixXd xs = src.rowwise() - mu_s, xd = dst.rowwise() - mu_d;
   const Eigen::Matrix3d cov = xd.transpose() * xs / n;  // Σ_xy, eq. (38)
   const double var_s = xs.squaredNorm() / n;            // σ²_x, eq. (36)
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(cov, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Vector3d S = Eigen::Vector3d::Ones();  // eq. (43): never a reflection
-  if (svd.matrixU().determinant() * svd.matrixV().determinant() < 0) S[2] = -1;
+  // Eqs. (40), (43): R maximises tr(Rᵀ Σ_xy) = tr(R Σ_xyᵀ), a proper rotation (ga/rotor_fit.hpp), and
+  // max tr(R Σ_xyᵀ) = tr(D S) of eq. (42).
+  ga::RotationInfo info;
   Similarity T;
-  T.R = svd.matrixU() * S.asDiagonal() * svd.matrixV().transpose();  // eq. (40)
+  T.R = ga::rotation_matrix(ga::best_rotation(cov.transpose(), ga::Rot(1.0, 0.0, 0.0, 0.0), &info));
   if (with_scale) {
     if (!(var_s > 0)) throw Error("umeyama_fit: the source points all coincide: the scale is undefined");
-    T.scale = svd.singularValues().dot(S) / var_s;  // eq. (42)
+    T.scale = info.trace / var_s;  // eq. (42)
   }
   T.t = mu_d.transpose() - T.scale * T.R * mu_s.transpose();  // eq. (41)
   return T;

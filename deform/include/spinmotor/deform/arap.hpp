@@ -21,9 +21,10 @@
 // monotonicity holds exactly as well); a vertex whose weights all clamp to 0 then floats and the
 // factorization reports it.
 //
-// Iteration (local/global alternation, §VII):
+// Iteration: rigid cells and handles on the local/global layer (fit/cells.hpp RigidCells,
+// fit/local_global.hpp LocalGlobal, §VII):
 //   local   per vertex (parallel, allocation-free) the covariance S_i = Σ w e e'ᵀ and its best rotor
-//           by Horn's method (arap_rotation.hpp), warm-started from the rotor of the previous iteration
+//           by Horn's method (ga/rotor_fit.hpp), warm-started from the rotor of the previous iteration
 //           (or of the previous pose); the energy of the current positions, E(X'_k) = min_R E(X'_k, R),
 //           comes out of the same pass (cell by cell: Σ w|e'|² + Σ w|e|² − 2 tr(R_i S_i), evaluated
 //           term by term instead when that difference cancels, so that a rigid motion gives ~1e-30,
@@ -32,9 +33,9 @@
 //           eq. 13 with the constrained rows and columns removed); L_FF is factorized once per handle
 //           set at bind (CholeskySolver: CHOLMOD) and the three coordinates are solved together; the
 //           handles' share L_FC X'_C is computed once per pose.
-// Stopping: after k ≥ 1 global steps when E_{k−1} − E_k ≤ tolerance · E_{k−1}, or when E_k is zero to
-// roundoff (≤ 1e-24 of the rest-edge scale Σ w |e|²), or after `iterations` global steps. The report
-// lists E_0 (initial guess) … E_k: non-increasing (each step minimises exactly; ties to roundoff).
+// Stopping: the layer's rule (relative energy change ≤ tolerance, or E_k zero to roundoff: ≤ 1e-24 of
+// the rest-edge scale Σ w |e|²), or after `iterations` global steps. The report lists E_0 (initial
+// guess) … E_k: non-increasing (each step minimises exactly; ties to roundoff).
 //
 // Handles: pose() takes one unit motor per handle; the handle's vertices are placed at M p ~M (the
 // whole region moves rigidly). Vertices that no face references are kept at their rest position
@@ -58,6 +59,8 @@
 
 #include "spinmotor/deform/deformer.hpp"
 #include "spinmotor/deform/motor_blend_field.hpp"
+#include "spinmotor/fit/cells.hpp"
+#include "spinmotor/fit/local_global.hpp"
 #include "spinmotor/linalg/dirichlet_solver.hpp"
 #include "spinmotor/linalg/ordering.hpp"
 #include "spinmotor/mesh/mesh.hpp"
@@ -75,17 +78,11 @@ inline constexpr OptionNames<ArapInitial, 3> kArapInitialNames{"initial",
                                                                  {ArapInitial::Previous, "previous"}}}};
 constexpr const auto& option_names(ArapInitial) { return kArapInitialNames; }
 
-/// What the last pose() did.
-struct ArapReport {
-  std::vector<double> energy;         ///< E(X'_0) (initial guess), E(X'_1), …: one per local step
-  int iterations = 0;                 ///< global steps taken
-  bool converged = false;             ///< stopped by the tolerance (or a zero energy), not by `iterations`
-  double local_ms = 0.0;              ///< local steps (covariances, rotors, energies), all iterations
-  double global_ms = 0.0;             ///< right-hand sides and solves, all iterations
-  double rhs_ms = 0.0;                ///< of which the right-hand sides (eq. 12)
-  double solve_ms = 0.0;              ///< of which the solves (CHOLMOD, 3 columns)
-  double initial_ms = 0.0;            ///< placing the handles and the initial guess
-  Eigen::Index jacobi_rotations = 0;  ///< local solves that took the Jacobi fallback (all iterations)
+/// What the last pose() did: the local/global solve's report (fit/local_global.hpp: energies E(X'_0)
+/// (initial guess), E(X'_1), …, iterations, converged, local and global step times, fallback fits: the
+/// rotor fits that took the Jacobi path) and the time of the initial guess.
+struct ArapReport : fit::SolveReport {
+  double initial_ms = 0.0;  ///< placing the handles and the initial guess
 };
 
 /// Where bind() spent its time (ms).
@@ -157,7 +154,7 @@ class ArapDeformer {
   double energy(const Eigen::MatrixXd& V) const;
 
   /// The best rotor of every cell for the last pose's output (n, ga::Rot).
-  const std::vector<ga::Rot>& rotors() const { return rot_; }
+  const std::vector<ga::Rot>& rotors() const { return cells_.rotors(); }
   const ArapReport& report() const { return report_; }
   const ArapBindReport& bind_report() const { return bind_report_; }
   const Options& options() const { return options_; }
@@ -165,40 +162,21 @@ class ArapDeformer {
   /// One control per handle (its name, anchored at its rest centroid).
   const std::vector<Control>& controls() const { return controls_; }
   /// The global matrix (the cotangent Laplacian with the energy's weights), n×n.
-  const Eigen::SparseMatrix<double>& laplacian() const { return L_; }
+  const Eigen::SparseMatrix<double>& laplacian() const { return cells_.global_matrix(); }
   /// The free vertex of each row of the factorized block L_FF (for messages of the factorization).
-  const Eigen::VectorXi& free_order() const { return dirichlet_.free(); }
+  const Eigen::VectorXi& free_order() const { return solver_.free(); }
 
  private:
-  // bind phases (arap.cpp)
-  void build_one_ring();
-  int slot(int i, int j) const;
-  void bind_spoke_cells();
-  void bind_rim_cells(const Eigen::MatrixXd& C);
-  void assemble_global_matrix();
-  void find_unreferenced();
+  struct Cells;  // the solve's Problem: the rigid cells (arap.cpp)
   void bind_handles(std::span<const Handle> handles);
   void factorize(const std::vector<int>& constrained);
   void bind_harmonic();
-  double local_step();
-  void global_step();
-  double cell_energy_direct(Eigen::Index i, const Eigen::Matrix3d& R, const RowMatrix3& X) const;
+  void find_unreferenced();
 
   Options options_;
   Eigen::MatrixXi F_;
   RowMatrix3 P_;  // rest positions
-  Eigen::SparseMatrix<double> L_;
-  // One-ring CSR (the off-diagonal pattern of L, rows sorted): for the slot k of vertex i (neighbour
-  // j = nbr_[k]) the spoke weight w_[k], the covariance coefficient kappa_.row(k) (S_i = Σ_k κ_k
-  // (x'_j − x'_i)ᵀ) and the right-hand-side coefficient h_.row(k) (B_i = R_i h_self_i + Σ_k R_j h_k).
-  std::vector<int> off_, nbr_;
-  Eigen::VectorXd w_;
-  RowMatrix3 kappa_, h_, h_self_;
-  // Rims of the spokes-and-rims cells: edge (rim_l_, rim_m_) with weight rim_c_, CSR by rim_off_.
-  std::vector<int> rim_off_, rim_l_, rim_m_;
-  Eigen::VectorXd rim_c_;
-  Eigen::VectorXd a_rest_;  // Σ_{(u,v) ∈ C_i} w_uv |e_uv|² per cell
-  double energy_scale_ = 0.0;
+  fit::RigidCells cells_;
   Eigen::VectorXi unreferenced_;
 
   // Handles.
@@ -206,19 +184,16 @@ class ArapDeformer {
   std::vector<std::string> handle_names_;
   std::vector<Control> controls_;
   Eigen::VectorXi constrained_, constrained_handle_;  // handle of each constrained vertex (−1: unreferenced)
-  // L_FF (rows in a geometric nested-dissection order of the free vertices, free_order()), its
-  // factorization and L_FC (free_constrained_block(), columns in constrained_ order).
-  DirichletSolver dirichlet_;
+  // L_FF (rows in a geometric nested-dissection order of the free vertices, free_order()) and its
+  // factorization, in the local/global solver.
+  fit::LocalGlobal solver_;
   MotorBlendField harmonic_;
   bool has_harmonic_ = false;
 
-  // Per-pose state and scratch, reused across poses (after the first pose the only allocations are
-  // those of DirichletSolver::solve_free, which returns a new matrix, and CHOLMOD's own workspace).
-  RowMatrix3 X_;
-  std::vector<ga::Rot> rot_;
+  // Per-pose state and scratch, reused across poses.
+  RowMatrix3 X_, values_;
   std::vector<ga::Mot> motors_;
-  std::vector<Eigen::Matrix3d> Rm_;
-  Eigen::MatrixXd values_, Xcol_, FCX_, rhs_, XF_;
+  Eigen::MatrixXd Xcol_;
   bool has_previous_ = false;
   ArapReport report_;
   ArapBindReport bind_report_;

@@ -17,8 +17,7 @@
 //               the rest pose's M (below) is a symmetric PSD covariance whose polar factor is I: the
 //               rest mesh comes back to rounding. The cotangent Laplacian has positive off-diagonal
 //               entries at obtuse angles, Ψ can then have negative entries, M can be indefinite and
-//               the SVD's rotation can flip: a plausible cause (not verified) of the rest-pose failure
-//               reported against a widely used public implementation.
+//               its polar factor can flip.
 //   bind        per vertex i and bone j the symmetric 4×4
 //                 Ω_ij = Σ_k Ψ_ik w_kj [u_k − u_i; 1][u_k − u_i; 1]ᵀ     (10 numbers)
 //               computed as 10·B columns Ψ (w_j ∘ [1, y, y yᵀ]) of smoothed moments (y = coordinates
@@ -29,7 +28,8 @@
 //               vertex sum to 1).
 //   pose        with M_j = [R_j | t_j] the bone motions K_j = F_j ~F_j^0 (as SkinDeformer):
 //                 Q_i = Σ_j M_j Ω_ij = [[Q3, q], [pᵀ, s]],  p̄ = p/s,  q̄ = q/s,
-//                 M = Q3/s − q̄ p̄ᵀ,  SVD M = U Σ Vᵀ,  R = U Vᵀ (det < 0: negate U's last column),
+//                 M = Q3/s − q̄ p̄ᵀ,  R = the rotation of M's polar decomposition (a proper rotation
+//                 also when det M < 0: SVD M = U Σ Vᵀ, R = U diag(1, 1, det(U Vᵀ)) Vᵀ),
 //                 t = q̄ − R p̄,  u'_i = R·0 + t = q̄ − R p̄   (u_i is the origin of Ω_ij's coordinates).
 //               The paper's u'_i = R u_i + t is this in world coordinates. With c_j = M_j u_i (vertex i
 //               moved by bone j), c_ref the c_j of the vertex's first kept pair and δ_j = c_j − c_ref,
@@ -40,8 +40,8 @@
 // With p = 0 iterations Ψ = I, p̄ = 0 and the result is LBS.
 //
 // pose(): B bone matrices, then per vertex its kept pairs (≈ the bones within the smoothing's reach),
-// one 3×3 SVD (Eigen::JacobiSVD); parallel over vertices (OpenMP, from parallel::kMotorBlend vertices on),
-// no allocation after the first call (tested).
+// one closest-rotation fit (ga::closest_rotation, Horn's method); parallel over vertices (OpenMP, from
+// parallel::kMotorBlend vertices on), no allocation after the first call (tested).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <array>

@@ -57,7 +57,7 @@ struct WriteOptions {
   bool binary = true;  ///< PLY and STL: binary (little-endian) or ASCII; OBJ and OFF are always ASCII
   /// OBJ: named objects, each (name, first face) in increasing first-face order: an `o name` line before
   /// that face (importers make one object of each). Other formats have no objects and ignore it.
-  std::vector<std::pair<std::string, Eigen::Index>> objects;
+  std::vector<std::pair<std::string, Eigen::Index>> objects{};
 };
 
 /// Reads a mesh, format by extension. Output: V (n×3), F (m×3, file order), and for OBJ with vt

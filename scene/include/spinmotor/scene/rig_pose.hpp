@@ -40,7 +40,7 @@ struct RigPoseOptions {
   RigCleanupMode cleanup = RigCleanupMode::None;
   /// cleanup pinned: pins, pose attraction and the cleanup's own options (rig_cleanup.hpp, whose
   /// defaults these are).
-  RigCleanupOptions cleanup_options;
+  RigCleanupOptions cleanup_options{};
   RigSpace space = RigSpace::Scene;
 };
 

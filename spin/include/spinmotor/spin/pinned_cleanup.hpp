@@ -118,6 +118,7 @@
 #include <vector>
 
 #include "spinmotor/core/option_names.hpp"
+#include "spinmotor/fit/local_global.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 
 namespace spinmotor {
@@ -159,23 +160,19 @@ struct PinnedCleanupOptions {
   bool record_quasi_conformal = false;
 };
 
-struct PinnedCleanupResult {
-  int iterations = 0;                    ///< global steps taken
-  bool converged = false;                ///< the stopping rule met before max_iterations
+/// One frame: the local/global solve's report (fit/local_global.hpp: iterations, converged, the
+/// normalised energy E_k after each local step, phase times, fallback fits: collapsed faces and cells,
+/// rejected accelerations) and the cleanup's own figures.
+struct PinnedCleanupResult : fit::SolveReport {
   bool all_pinned = false;               ///< every vertex is pinned: V_out = V_edit, nothing solved
   CleanupKeep kept = CleanupKeep::None;  ///< the measure actually constrained (Auto resolved)
-  std::vector<double> energy;            ///< normalised E_k (header comment), k = 0..: after each local step
   std::vector<double> q_mean;            ///< Q_mean after each global step (record_quasi_conformal only)
   double rest_measure = 0;               ///< rest volume (Volume) or area (Area, None: area)
   double edit_measure = 0;               ///< the same measure of V_edit
   double measure = 0;                    ///< the same measure of V_out
   double measure_ratio() const { return rest_measure != 0 ? measure / rest_measure : 1.0; }
   double pin_error = 0;  ///< max |V_out(p) − V_edit(p)| over pins / bounding-box diagonal of V_edit (0)
-  int rejected_accelerations = 0;    ///< Anderson steps replaced by the plain iterate (energy rose)
-  Eigen::Index collapsed_cells = 0;  ///< cell-iterations that used the collapsed-cell fallback
-  double local_ms = 0;               ///< local steps + right-hand sides + constraint gradients
-  double solve_ms = 0;               ///< back-substitutions
-  double total_ms = 0;               ///< whole cleanup() call
+  double total_ms = 0;   ///< whole cleanup() call
 };
 
 class PinnedCleanup {

@@ -1,12 +1,15 @@
 #pragma once
-// The best rotation of an ARAP cell as a rotor: Horn's quaternion method (CGA paper §VII; Horn 1987,
-// "Closed-form solution of absolute orientation using unit quaternions", §4).
+// The closest rotation and similarity fits: the one place the project fits a 3×3 rotation (ARAP's
+// rotors, the pose-keeping cleanup's vertex cells, Direct Delta Mush, rigid alignments, the polar part
+// of a skinning matrix). Horn's quaternion method (Horn 1987, "Closed-form solution of absolute
+// orientation using unit quaternions", §4; CGA paper §VII).
 //
 // Given a 3×3 covariance S = Σ_j w_j v_j v'_jᵀ (v rest, v' deformed edge vectors), the rotation
 // R ∈ SO(3) that minimises Σ_j w_j |v'_j − R v_j|² maximises tr(R S) = Σ_j w_j v'_j·(R v_j). For a unit
 // quaternion q (R v = q v q̄, ga::Rot) tr(R(q) S) = qᵀ N(S) q with Horn's symmetric 4×4 matrix N(S)
 // (horn_matrix), so the best rotor is the eigenvector of the largest eigenvalue of N(S), and that
-// eigenvalue is max tr(R S) = σ1 + σ2 + sign(det S) σ3 (σ the singular values of S).
+// eigenvalue is max tr(R S) = σ1 + σ2 + sign(det S) σ3 (σ the singular values of S). The closest
+// rotation to a matrix M (the rotation of its polar decomposition M = R P) is best_rotation(Mᵀ).
 //
 // This is the SVD answer R = V diag(1, 1, det(V Uᵀ)) Uᵀ (S = U Σ Vᵀ): always a proper rotation (the
 // closest rotation when S is a reflection, never the reflection itself). It is unique iff the top
@@ -14,27 +17,34 @@
 // unique best rotation; rank ≤ 1 (collinear or empty cells) and the reflection ties σ2 = σ3 with
 // det S < 0 have a family of them. In that case best_rotation returns the member of the family
 // nearest to the warm-start rotor (the normalised projection of the warm quaternion onto the top
-// eigenspace; the warm rotor itself when S = 0): a deterministic choice that keeps ARAP's rotations
-// continuous, and optimal like every member of the family.
+// eigenspace; the warm rotor itself when S = 0): a deterministic choice that keeps iterated fits
+// continuous, and optimal like every member of the family. The rank-deficient fallback is inside the fit.
 //
-// Algorithm (measured in bench_arap, BM_BestRotation*):
+// The best similarity s R of the same cell (scale s ≥ 0, R as above) minimises Σ w |v' − s R v|²:
+// s = max(tr(R S), 0) / Σ w |v|² (best_similarity).
+//
+// Algorithm (measured in bench_arap, BM_Rotation*):
 //   fast path   in the frame of the warm rotor q0 (T = R(q0) S, N = N(T) = [a b; b B]), the top
 //               eigenvalue λ of N is the root above λ_max(B) of the secular equation
 //               f(λ) = λ − a − bᵀ(λI − B)⁻¹b = 0, f concave increasing there: Newton from λ = a (a
 //               lower bound; accepted only when aI − B is positive definite) climbs monotonically to
 //               the root, quadratically; the eigenvector is (1, (λI − B)⁻¹b). With a warm start from
-//               the previous ARAP iteration b is small and 1–3 steps of a 3×3 LDLᵀ solve suffice.
+//               the previous iteration b is small and 1–3 steps of a 3×3 LDLᵀ solve suffice.
 //   fallback    cyclic Jacobi on the 4×4 N (accurate for every spectrum), then the cluster of
 //               eigenvalues within 1e-10·|S|_F of the top one is treated as one eigenspace.
 // Both paths are allocation-free, inline, and leave q with the sign nearest to the warm rotor.
+// best_rotations fits a batch (one covariance per cell, warm-started from the rotors given), in parallel.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
+#include <span>
 
-#include "spinmotor/ga.hpp"
+#include "spinmotor/core/parallel.hpp"
+#include "spinmotor/ga/products.hpp"
+#include "spinmotor/ga/types.hpp"
 
-namespace spinmotor {
+namespace spinmotor::ga {
 
 /// Horn's matrix N(S) (§VII): inputs S (3×3, S = Σ w v v'ᵀ). Output: symmetric 4×4 N with
 /// qᵀ N q = tr(R(q) S) for every unit quaternion q = (w, x, y, z) (the order of ga::Rot).
@@ -222,4 +232,40 @@ inline ga::Rot best_rotation(const Eigen::Matrix3d& S, const ga::Rot& warm = ga:
   return ga::Rot(q.w() / n, q.x() / n, q.y() / n, q.z() / n);
 }
 
-}  // namespace spinmotor
+/// The best similarity s R (see the header comment): inputs S = Σ w v v'ᵀ, rest = Σ w |v|² (> 0), warm.
+struct Similarity {
+  ga::Rot rotor = ga::Rot(1.0, 0.0, 0.0, 0.0);
+  double scale = 1.0;
+};
+inline Similarity best_similarity(const Eigen::Matrix3d& S, double rest,
+                                  const ga::Rot& warm = ga::Rot(1.0, 0.0, 0.0, 0.0),
+                                  RotationInfo* info = nullptr) {
+  RotationInfo local;
+  RotationInfo& out = info ? *info : local;
+  Similarity s;
+  s.rotor = best_rotation(S, warm, &out);
+  s.scale = rest > 0 ? std::max(out.trace, 0.0) / rest : 0.0;
+  return s;
+}
+
+/// The rotation of the polar decomposition M = R P (P symmetric positive semi-definite): the rotation
+/// closest to M in the Frobenius norm, best_rotation(Mᵀ) (a proper rotation also when det M < 0).
+inline Eigen::Matrix3d closest_rotation(const Eigen::Matrix3d& M) {
+  return rotation_matrix(best_rotation(M.transpose()));
+}
+
+/// A batch of fits: rotors[k] = best_rotation(S[k], rotors[k]) (warm-started from what rotors holds),
+/// in parallel. Returns the number of fits that took the Jacobi fallback (rank-deficient or clustered).
+inline long best_rotations(std::span<const Eigen::Matrix3d> S, std::span<ga::Rot> rotors) {
+  const long n = static_cast<long>(S.size());
+  long fallback = 0;
+#pragma omp parallel for schedule(static) reduction(+ : fallback) if (parallel::worth(n, parallel::kRotationFit))
+  for (long k = 0; k < n; ++k) {
+    RotationInfo info;
+    rotors[k] = best_rotation(S[k], rotors[k], &info);
+    fallback += !info.fast;
+  }
+  return fallback;
+}
+
+}  // namespace spinmotor::ga

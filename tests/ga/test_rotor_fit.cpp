@@ -1,13 +1,16 @@
-// Horn's best rotation (arap_rotation.hpp) against the SVD/polar answer R = V diag(1,1,det(VUᵀ)) Uᵀ.
+// Horn's best rotation (ga/rotor_fit.hpp) against the SVD/polar answer R = V diag(1,1,det(VUᵀ)) Uᵀ.
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <catch2/catch.hpp>
 #include <random>
+#include <vector>
 
-#include "spinmotor/deform/arap_rotation.hpp"
+#include "spinmotor/ga/rotor_fit.hpp"
 
-namespace test_arap_rotation {
+namespace test_rotor_fit {
 
 using namespace spinmotor;
+using namespace spinmotor::ga;
 
 namespace {
 
@@ -50,7 +53,7 @@ double max_abs(const Eigen::Matrix3d& A) { return A.cwiseAbs().maxCoeff(); }
 
 }  // namespace
 
-TEST_CASE("Horn's matrix: q^T N(S) q = tr(R(q) S) and rotation_matrix is q v q-bar", "[arap][rotation]") {
+TEST_CASE("Horn's matrix: q^T N(S) q = tr(R(q) S) and rotation_matrix is q v q-bar", "[ga][rotation]") {
   std::mt19937 rng(1);
   for (int t = 0; t < 200; ++t) {
     const Eigen::Matrix3d S = random_matrix(rng);
@@ -65,7 +68,7 @@ TEST_CASE("Horn's matrix: q^T N(S) q = tr(R(q) S) and rotation_matrix is q v q-b
 }
 
 TEST_CASE("Horn's rotor equals the SVD rotation on 10^4 random covariances (reflections included)",
-          "[arap][rotation]") {
+          "[ga][rotation]") {
   std::mt19937 rng(7);
   int reflections = 0, fast = 0, compared = 0;
   double worst_R = 0, worst_trace = 0;
@@ -97,7 +100,7 @@ TEST_CASE("Horn's rotor equals the SVD rotation on 10^4 random covariances (refl
 }
 
 TEST_CASE("Horn's rotor on rank-deficient covariances: flat (rank 2) unique, collinear (rank 1) a family",
-          "[arap][rotation]") {
+          "[ga][rotation]") {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(0.01, 2.0);
   double worst_flat = 0, worst_collinear_trace = 0, worst_family = 0;
@@ -153,7 +156,7 @@ TEST_CASE("Horn's rotor on rank-deficient covariances: flat (rank 2) unique, col
 }
 
 TEST_CASE("Horn's rotor: reflection ties, zero covariance, and warm-started exact rotations",
-          "[arap][rotation]") {
+          "[ga][rotation]") {
   std::mt19937 rng(5);
   // S = U diag(2, 1, −1)ᵀ-like with det < 0 and σ2 = σ3: a one-parameter family, energy still optimal.
   for (int t = 0; t < 200; ++t) {
@@ -188,4 +191,75 @@ TEST_CASE("Horn's rotor: reflection ties, zero covariance, and warm-started exac
   CHECK(fast == 1000);
 }
 
-}  // namespace test_arap_rotation
+TEST_CASE("closest_rotation is the rotation of the polar decomposition M = R P", "[ga][rotation]") {
+  std::mt19937 rng(17);
+  for (int t = 0; t < 500; ++t) {
+    const Eigen::Matrix3d M = random_matrix(rng);
+    // Independent: R = U diag(1, 1, det(U Vᵀ)) Vᵀ from M = U Σ Vᵀ, the proper rotation nearest to M.
+    Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    const Eigen::Matrix3d U = svd.matrixU(), V = svd.matrixV();
+    const double d = (U * V.transpose()).determinant() > 0 ? 1.0 : -1.0;
+    const Eigen::Matrix3d R_svd = U * Eigen::Vector3d(1, 1, d).asDiagonal() * V.transpose();
+    const Eigen::Matrix3d R = closest_rotation(M);
+    INFO("trial " << t << ", det M = " << M.determinant());
+    CHECK(max_abs(R - R_svd) <= 1e-9);
+    CHECK(std::abs(R.determinant() - 1.0) <= 1e-12);
+    if (d > 0) {  // P = Rᵀ M is symmetric positive definite for det M > 0
+      const Eigen::Matrix3d P = R.transpose() * M;
+      CHECK(max_abs(P - P.transpose()) <= 1e-9 * M.norm());
+      CHECK(
+          Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(0.5 * (P + P.transpose())).eigenvalues().minCoeff() >
+          0);
+    }
+  }
+}
+
+TEST_CASE("best_similarity: scale tr(R S) / sum w|v|^2 recovers s R from exact data", "[ga][rotation]") {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> g;
+  std::uniform_real_distribution<double> u(0.2, 3.0);
+  for (int t = 0; t < 200; ++t) {
+    const Eigen::Matrix3d R = random_rotation(rng);
+    const double s = u(rng);
+    Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+    double rest = 0;
+    for (int j = 0; j < 5; ++j) {
+      const Eigen::Vector3d v(g(rng), g(rng), g(rng));
+      const double w = u(rng);
+      S += w * v * (s * R * v).transpose();
+      rest += w * v.squaredNorm();
+    }
+    const Similarity fit = best_similarity(S, rest);
+    CHECK(fit.scale == Approx(s).epsilon(1e-12));
+    CHECK(max_abs(rotation_matrix(fit.rotor) - R) <= 1e-10);
+  }
+  // A reflected cell: the best similarity is a proper rotation with tr(R S) = σ1 + σ2 − σ3 (≥ 0 here).
+  const Eigen::Matrix3d S = Eigen::Vector3d(2.0, 1.5, -1.0).asDiagonal();
+  const Similarity fit = best_similarity(S, 4.0);
+  CHECK(fit.scale == Approx((2.0 + 1.5 - 1.0) / 4.0).epsilon(1e-12));
+  // No rest extent: scale 0, not a division by zero.
+  CHECK(best_similarity(S, 0.0).scale == 0.0);
+}
+
+TEST_CASE("best_rotations fits a batch as the single fit does and counts the fallbacks", "[ga][rotation]") {
+  std::mt19937 rng(9);
+  std::vector<Eigen::Matrix3d> S(2000);
+  std::vector<ga::Rot> rotors(S.size(), ga::Rot(1, 0, 0, 0));
+  for (size_t k = 0; k < S.size(); ++k) S[k] = random_matrix(rng);
+  // Rank-1 covariances (collinear cells) have a family of best rotations: the Jacobi fallback.
+  for (size_t k = 0; k < 10; ++k) S[k] = Eigen::Vector3d(1, 2, 3) * Eigen::Vector3d(0, 1, 0).transpose();
+  const long fallback = best_rotations(S, rotors);
+  long expected = 0;
+  for (size_t k = 0; k < S.size(); ++k) {
+    RotationInfo info;
+    const ga::Rot q = best_rotation(S[k], ga::Rot(1, 0, 0, 0), &info);
+    expected += !info.fast;
+    CHECK(std::abs(q.w() - rotors[k].w()) + std::abs(q.x() - rotors[k].x()) +
+              std::abs(q.y() - rotors[k].y()) + std::abs(q.z() - rotors[k].z()) ==
+          0.0);
+  }
+  CHECK(fallback == expected);
+  CHECK(fallback >= 10);
+}
+
+}  // namespace test_rotor_fit
