@@ -213,6 +213,7 @@ SolveReport LocalGlobal::solve(Problem& problem, RowMatrix3& X, const RowMatrix3
   m.rhs.resize(nf, constrained ? 6 : 3);
   Anderson acc(o.anderson, 3 * nf);
   double e_prev = -1;
+  bool finishing = false;
   for (int it = 0;; ++it) {
     auto t0 = Clock::now();
     double e = problem.fit(X, it, r);
@@ -233,10 +234,19 @@ SolveReport LocalGlobal::solve(Problem& problem, RowMatrix3& X, const RowMatrix3
     bool stop = e <= 1e-24 * problem.energy_scale();
     if (it > 0 && std::abs(e - e_prev) <= o.tolerance * std::max(e, e_prev)) stop = true;
     e_prev = e;
-    if (stop || it >= o.max_iterations || nf == 0) {
-      if (acc.accelerated) scatter(acc.G_last, free, X);  // a plain iterate meets the linearised row
-      r.converged = stop || nf == 0;
+    if (finishing) {  // the plain step after a stop at an accelerated point
+      r.converged = true;
       break;
+    }
+    if (stop || it >= o.max_iterations || nf == 0) {
+      // Stopped at an accelerated point: one plain step from it, so that the positions returned are a
+      // plain iterate (they meet the linearised row) and the last energy reported is theirs.
+      if (stop && acc.accelerated && nf > 0) {
+        finishing = true;
+      } else {
+        r.converged = stop || nf == 0;
+        break;
+      }
     }
     acc.accelerated = false;
     const auto t_global = Clock::now();
@@ -267,12 +277,13 @@ SolveReport LocalGlobal::solve(Problem& problem, RowMatrix3& X, const RowMatrix3
       }
       if (gg > 0) mu = (ga - row_rhs) / gg;
     }
-    if (acc.depth > 0) gather(X, free, acc.x);
+    if (acc.depth > 0 && !finishing) gather(X, free, acc.x);
     for (Eigen::Index k = 0; k < nf; ++k) {
       X.row(free[k]) = XF.row(k).head<3>();
       if (constrained) X.row(free[k]) -= mu * XF.row(k).tail<3>();
     }
-    if (acc.depth > 0) {
+    // The last step allowed (and a finishing one) stays plain, so the iteration never ends accelerated.
+    if (acc.depth > 0 && !finishing && it + 1 < o.max_iterations) {
       gather(X, free, acc.Gk);
       Eigen::VectorXd next;
       if (acc.step(problem.plain_step(it), next)) {

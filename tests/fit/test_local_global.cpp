@@ -1,6 +1,6 @@
 // The local/global layer (fit/local_global.hpp, fit/cells.hpp) on its own: the global step against a
 // dense KKT solve written here, the attraction's closed form, the stopping rule on prescribed energies,
-// and the cells' fits on exact rigid and similar motions.
+// Anderson acceleration on a linear fixed point, and the cells' fits on exact rigid and similar motions.
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
@@ -42,7 +42,8 @@ struct Fixed final : fit::Problem {
 double volume(const Eigen::MatrixXi& F, const RowMatrix3& X) {
   double v = 0;
   for (Eigen::Index f = 0; f < F.rows(); ++f)
-    v += Eigen::Vector3d(X.row(F(f, 0))).dot(Eigen::Vector3d(X.row(F(f, 1))).cross(Eigen::Vector3d(X.row(F(f, 2)))));
+    v += Eigen::Vector3d(X.row(F(f, 0)))
+             .dot(Eigen::Vector3d(X.row(F(f, 1))).cross(Eigen::Vector3d(X.row(F(f, 2)))));
   return v / 6;
 }
 
@@ -103,7 +104,8 @@ TEST_CASE("global step with a volume row: one step is the dense KKT solution", "
   rhs(3 * nf) = target - volume(m.F, X0) + gx0;
   const Eigen::VectorXd x = K.fullPivLu().solve(rhs);
   double err = 0;
-  for (Eigen::Index i = 0; i < nf; ++i) err = std::max(err, (X.row(5 + i) - x.segment<3>(3 * i).transpose()).norm());
+  for (Eigen::Index i = 0; i < nf; ++i)
+    err = std::max(err, (X.row(5 + i) - x.segment<3>(3 * i).transpose()).norm());
   CHECK(err <= 1e-10);
   for (int k = 0; k < 5; ++k) CHECK(X.row(k) == values.row(k));  // the constrained rows bit for bit
 }
@@ -178,7 +180,8 @@ TEST_CASE("rigid cells: handles moved by one rigid motion give that motion, E = 
   const Mesh m = tube(0.5, 3.0, 16, 12, true);
   const Eigen::Index n = m.V.rows();
   const Eigen::SparseMatrix<double> L = cotangent_laplacian(m.V, m.F);
-  fit::RigidCells cells = fit::RigidCells::bind(m.V, m.F, L, Eigen::MatrixXd(), fit::RigidCells::Kind::Spokes, false);
+  fit::RigidCells cells =
+      fit::RigidCells::bind(m.V, m.F, L, Eigen::MatrixXd(), fit::RigidCells::Kind::Spokes, false);
   const Eigen::Matrix3d R = Eigen::AngleAxisd(1.1, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   const Eigen::RowVector3d t(0.3, -2, 1);
   RowMatrix3 moved = (RowMatrix3(m.V) * R.transpose()).rowwise() + t;
@@ -226,5 +229,62 @@ TEST_CASE("similarity cells: an exact similarity has zero energy and is recovere
   CHECK(faces.fit(sheared, fb) > 1e-3 * faces.area());
 }
 
+namespace {
+
+/// A linear contraction x → G(x): the right-hand side L (0.9 X Qᵀ) makes the global step
+/// G(X)_F = 0.9 (X Qᵀ)_F + (a constant of the constrained rows); energy |X − X*|².
+struct Contraction final : fit::Problem {
+  Eigen::SparseMatrix<double> L;
+  Eigen::Matrix3d Q;
+  RowMatrix3 X, Xstar;
+  double fit(const RowMatrix3& x, int it, fit::SolveReport&) override {
+    X = x;
+    return Xstar.rows() ? (X - Xstar).squaredNorm() : 1.0 / (1.0 + it);  // before X* is known: never stops
+  }
+  void rhs(int, const fit::LocalGlobal& solver, RowMatrix3& B) override {
+    const RowMatrix3 LY = L * RowMatrix3(0.9 * X * Q.transpose());
+    for (Eigen::Index r = 0; r < solver.free().size(); ++r) B.row(r) = LY.row(solver.free()[r]);
+  }
+  double energy_scale() const override { return 1.0; }
+};
+
+}  // namespace
+
+TEST_CASE("Anderson acceleration reaches the fixed point of a linear contraction in far fewer steps",
+          "[fit]") {
+  const Mesh m = icosphere(2);
+  const Eigen::SparseMatrix<double> L = cotangent_laplacian(m.V, m.F);
+  fit::LocalGlobal lg;
+  fit::LocalGlobal::Bind b;
+  b.L = L;
+  b.constrained = Eigen::VectorXi::LinSpaced(3, 0, 2);
+  lg.bind(b);
+  const RowMatrix3 values = RowMatrix3(m.V).topRows(3);
+  Contraction p;
+  p.L = L;
+  p.Q = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
+  // X* by the plain iteration run long (rate 0.9: 600 steps leave 0.9^600 ≈ 2e-28).
+  RowMatrix3 X = m.V;
+  fit::SolveOptions o;
+  o.max_iterations = 600;
+  o.tolerance = 0;
+  lg.solve(p, X, values, nullptr, 0.0, o);
+  p.Xstar = X;
+  auto run = [&](int depth) {
+    RowMatrix3 Y = m.V;
+    fit::SolveOptions so;
+    so.max_iterations = 1000;
+    so.tolerance = 0;  // stop by E ≤ 1e-24 only
+    so.anderson = depth;
+    const fit::SolveReport r = lg.solve(p, Y, values, nullptr, 0.0, so);
+    CHECK(r.converged);
+    CHECK((Y - p.Xstar).cwiseAbs().maxCoeff() <= 1e-11);
+    return r.iterations;
+  };
+  const int plain = run(0), accelerated = run(6);
+  INFO("plain " << plain << " steps, Anderson(6) " << accelerated);
+  CHECK(plain > 200);  // 0.81^k |X0 − X*|² ≤ 1e-24
+  CHECK(accelerated * 5 < plain);
+}
 
 }  // namespace test_local_global

@@ -20,8 +20,9 @@
 // local + global step) on the free coordinates (Peng et al. 2018, "Anderson acceleration for geometry
 // optimization and physics simulation", §3–4): x_{k+1} = G_k − ΔG γ, γ = argmin |f_k − ΔF γ|,
 // f = G(x) − x, the last m differences; a step whose energy rises is replaced by the plain iterate G_k and
-// the history restarts. Affine combinations keep the constrained vertices (not part of x) exact; the
-// returned X is a plain iterate.
+// the history restarts. Affine combinations keep the constrained vertices (not part of x) exact. The
+// returned X is a plain iterate: the last step allowed is not accelerated, and a stop at an accelerated
+// point takes one more plain step from it (so the energy last reported is that of the X returned).
 //
 // Stopping rule (one for every problem): after the local step of iteration k ≥ 1, stop when
 // |E_k − E_{k−1}| ≤ tolerance · max(E_k, E_{k−1}) (the relative energy change), or when
