@@ -243,6 +243,207 @@ std::uint64_t harmonic_grid_memory(const Eigen::MatrixXd& C, const Eigen::Matrix
   return bytes >= 0x1p64 ? UINT64_MAX : static_cast<std::uint64_t>(bytes);
 }
 
+/// The grid of harmonic_cage_coordinates: N nodes per axis, spacing h, node (0, 0, 0) at `origin`.
+struct CageGrid {
+  Vector3d origin;
+  double h = 0;
+  Eigen::Array3i N;
+  Index nodes = 0;  ///< N[0] N[1] N[2]
+  /// The linear index of node (x, y, z).
+  Index id(int x, int y, int z) const { return (static_cast<Index>(x) * N[1] + y) * N[2] + z; }
+  /// The position of node (x, y, z).
+  Vector3d pos(int x, int y, int z) const { return Vector3d(origin + h * Vector3d(x, y, z)); }
+};
+
+/// The six axis neighbours of a node.
+constexpr int kGridNeighbours[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+
+/// A node's class: on the cage (within h/2), outside it, or not yet known (after classify_nodes: inside).
+enum : unsigned char { kUnknown, kBoundary, kExterior };
+
+/// The cage's faces rasterized into the grid nodes within √3 h: per node the distance to the closest
+/// face (infinite beyond the band), that face (-1 beyond the band) and the barycentric coordinates of
+/// the closest point.
+struct CageRaster {
+  std::vector<double> dist;
+  std::vector<int> face;
+  std::vector<Vector3d> bary;
+};
+
+/// The grid over the bounding box of the cage C, `grid` cells along its longest side plus 2 cells of
+/// padding on every side.
+CageGrid make_cage_grid(const Eigen::MatrixXd& C, int grid) {
+  constexpr int pad = 2;
+  CageGrid g;
+  const Vector3d lo = C.colwise().minCoeff(), hi = C.colwise().maxCoeff();
+  g.h = (hi - lo).maxCoeff() / grid;
+  for (int a = 0; a < 3; ++a)
+    g.N[a] = static_cast<int>(std::ceil((hi[a] - lo[a]) / g.h - 1e-9)) + 2 * pad + 1;
+  g.origin = lo - Vector3d::Constant(pad * g.h);
+  g.nodes = static_cast<Index>(g.N[0]) * g.N[1] * g.N[2];
+  return g;
+}
+
+/// Rasterizes the faces CF of the cage C into the nodes of g within √3 h (closest face wins).
+CageRaster rasterize_cage(const CageGrid& g, const Eigen::MatrixXd& C, const Eigen::MatrixXi& CF) {
+  const double band = std::sqrt(3.0) * g.h * (1.0 + 1e-9);
+  CageRaster r{std::vector<double>(g.nodes, INFINITY), std::vector<int>(g.nodes, -1),
+               std::vector<Vector3d>(g.nodes)};
+  for (Index f = 0; f < CF.rows(); ++f) {
+    const Vector3d a = C.row(CF(f, 0)), b = C.row(CF(f, 1)), c = C.row(CF(f, 2));
+    const Vector3d fmin = a.cwiseMin(b).cwiseMin(c) - Vector3d::Constant(band),
+                   fmax = a.cwiseMax(b).cwiseMax(c) + Vector3d::Constant(band);
+    Eigen::Array3i i0, i1;
+    for (int t = 0; t < 3; ++t) {
+      i0[t] = std::max(0, static_cast<int>(std::ceil((fmin[t] - g.origin[t]) / g.h)));
+      i1[t] = std::min(g.N[t] - 1, static_cast<int>(std::floor((fmax[t] - g.origin[t]) / g.h)));
+    }
+    for (int x = i0[0]; x <= i1[0]; ++x)
+      for (int y = i0[1]; y <= i1[1]; ++y)
+        for (int z = i0[2]; z <= i1[2]; ++z) {
+          Vector3d bc;
+          const double dd = std::sqrt(closest_on_triangle(g.pos(x, y, z), a, b, c, bc));
+          const Index v = g.id(x, y, z);
+          if (dd <= band && dd < r.dist[v]) {
+            r.dist[v] = dd;
+            r.face[v] = static_cast<int>(f);
+            r.bary[v] = bc;
+          }
+        }
+  }
+  return r;
+}
+
+/// The class of every node of g from the distances `dist`: boundary (≤ h/2), exterior (flood fill from
+/// the border through non-boundary nodes), the rest kUnknown (the interior).
+std::vector<unsigned char> classify_nodes(const CageGrid& g, const std::vector<double>& dist) {
+  std::vector<unsigned char> cls(g.nodes, kUnknown);
+  for (Index v = 0; v < g.nodes; ++v)
+    if (dist[v] <= 0.5 * g.h * (1.0 + 1e-6)) cls[v] = kBoundary;
+  std::vector<Index> stack;
+  auto push = [&](Index v) {
+    if (cls[v] == kUnknown) cls[v] = kExterior, stack.push_back(v);
+  };
+  push(g.id(0, 0, 0));
+  const Eigen::Array3i& N = g.N;
+  while (!stack.empty()) {
+    const Index v = stack.back();
+    stack.pop_back();
+    const int x = static_cast<int>(v / (static_cast<Index>(N[1]) * N[2])),
+              y = static_cast<int>((v / N[2]) % N[1]), z = static_cast<int>(v % N[2]);
+    for (const auto& d : kGridNeighbours) {
+      const int X2 = x + d[0], Y2 = y + d[1], Z2 = z + d[2];
+      if (X2 >= 0 && Y2 >= 0 && Z2 >= 0 && X2 < N[0] && Y2 < N[1] && Z2 < N[2]) push(g.id(X2, Y2, Z2));
+    }
+  }
+  return cls;
+}
+
+/// The unknowns of the solve: the interior nodes.
+struct GridUnknowns {
+  std::vector<Index> row;  ///< per node: its row among the unknowns, -1 for a boundary or exterior node
+  Index m = 0;             ///< how many
+};
+
+/// Numbers the interior nodes of g (class kUnknown in `cls`) in the grid's nested-dissection order
+/// (linalg/geometric_ordering.hpp), so that the factorization takes them as numbered, without a graph
+/// partitioner. Throws when no node is inside (`grid` for the message).
+GridUnknowns number_unknowns(const CageGrid& g, const std::vector<unsigned char>& cls, int grid) {
+  std::vector<std::array<int, 3>> at;
+  for (int x = 0; x < g.N[0]; ++x)
+    for (int y = 0; y < g.N[1]; ++y)
+      for (int z = 0; z < g.N[2]; ++z)
+        if (cls[g.id(x, y, z)] == kUnknown) at.push_back({x, y, z});
+  const auto m = static_cast<Index>(at.size());
+  if (m == 0)
+    throw Error("harmonic_cage_coordinates: no grid node inside the cage (grid " + std::to_string(grid) +
+                " too coarse)");
+  GridUnknowns u{std::vector<Index>(g.nodes, -1), m};
+  const std::vector<int> order = grid_nested_dissection(at);
+  for (Index r = 0; r < m; ++r) {
+    const auto& [x, y, z] = at[static_cast<std::size_t>(order[static_cast<std::size_t>(r)])];
+    u.row[g.id(x, y, z)] = r;
+  }
+  return u;
+}
+
+/// Solves the 7-point Laplacian on the interior nodes `u` (rows scaled by h²) with the boundary nodes'
+/// values (the barycentric coordinates of their closest cage face CF, for each of the k cage vertices)
+/// on the right-hand side. Returns the (u.m)×k interior values; throws when an interior node neighbours an
+/// exterior one.
+Eigen::MatrixXd solve_interior(const CageGrid& g, const std::vector<unsigned char>& cls,
+                               const CageRaster& raster, const GridUnknowns& u, const Eigen::MatrixXi& CF,
+                               Index k) {
+  const std::vector<Index>& unknown = u.row;
+  const Index m = u.m;
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(4 * m);
+  Eigen::MatrixXd B(m, k);  // m × (cage vertices): ~95 MB at grid 64, advised before it is zeroed
+  advise_huge_pages(B.data(), static_cast<std::size_t>(B.size()) * sizeof(double));
+  B.setZero();
+  for (int x = 0; x < g.N[0]; ++x)
+    for (int y = 0; y < g.N[1]; ++y)
+      for (int z = 0; z < g.N[2]; ++z) {
+        const Index v = g.id(x, y, z), r = unknown[v];
+        if (r < 0) continue;
+        t.emplace_back(r, r, 6.0);
+        for (const auto& d : kGridNeighbours) {
+          const Index w = g.id(x + d[0], y + d[1], z + d[2]);  // never off the grid: the border is exterior
+          if (unknown[w] >= 0) {
+            if (unknown[w] < r) t.emplace_back(r, unknown[w], -1.0);  // lower triangle
+          } else {
+            if (cls[w] != kBoundary)
+              throw numerical_error("harmonic_cage_coordinates: interior node next to an exterior node");
+            for (int c = 0; c < 3; ++c) B(r, CF(raster.face[w], c)) += raster.bary[w][c];
+          }
+        }
+      }
+  Eigen::SparseMatrix<double> A(m, m);
+  A.setFromTriplets(t.begin(), t.end());
+  CholeskySolver solver({.ordering = CholeskySolver::Ordering::Natural});  // numbered in ND order above
+  solver.compute(A);
+  return solver.solve(B);
+}
+
+/// Trilinear interpolation at the points X of the node values: rows of U for the interior nodes `u`, the
+/// closest face's barycentric coordinates for the rasterized ones. Returns the n×k coordinates; throws
+/// when a point's cell has a node with neither.
+Eigen::MatrixXd interpolate_nodes(const CageGrid& g, const Eigen::MatrixXd& X, const GridUnknowns& u,
+                                  const CageRaster& raster, const Eigen::MatrixXd& U,
+                                  const Eigen::MatrixXi& CF, Index k) {
+  const std::vector<Index>& unknown = u.row;
+  const Index n = X.rows();
+  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(n, k);
+  bool missing = false;
+#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend)) \
+    reduction(||                                                                         \
+              : missing)
+  for (Index i = 0; i < n; ++i) {
+    const Vector3d s = (X.row(i).transpose() - g.origin) / g.h;
+    int c0[3];
+    double f[3];
+    for (int a = 0; a < 3; ++a) {
+      c0[a] = std::clamp(static_cast<int>(std::floor(s[a])), 0, g.N[a] - 2);
+      f[a] = s[a] - c0[a];
+    }
+    for (int corner = 0; corner < 8; ++corner) {
+      const int ox = corner & 1, oy = (corner >> 1) & 1, oz = (corner >> 2) & 1;
+      const double w = (ox ? f[0] : 1 - f[0]) * (oy ? f[1] : 1 - f[1]) * (oz ? f[2] : 1 - f[2]);
+      if (w == 0.0) continue;
+      const Index v = g.id(c0[0] + ox, c0[1] + oy, c0[2] + oz);
+      if (unknown[v] >= 0) {
+        W.row(i) += w * U.row(unknown[v]);
+      } else if (raster.face[v] >= 0) {
+        for (int c = 0; c < 3; ++c) W(i, CF(raster.face[v], c)) += w * raster.bary[v][c];
+      } else {
+        missing = true;
+      }
+    }
+  }
+  if (missing) throw numerical_error("harmonic_cage_coordinates: a point's cell has a node without a value");
+  return W;
+}
+
 }  // namespace
 
 Eigen::MatrixXd harmonic_cage_coordinates(const Eigen::MatrixXd& C, const Eigen::MatrixXi& CF,
@@ -253,149 +454,15 @@ Eigen::MatrixXd harmonic_cage_coordinates(const Eigen::MatrixXd& C, const Eigen:
   const Index n = X.rows(), k = C.rows();
   if (X.cols() != 3) throw Error("harmonic_cage_coordinates: points must be n×3");
   require_inside(C, CF, X);
-
-  // Grid: cubic cells of size h, 2 cells of padding.
-  constexpr int pad = 2;
-  const Vector3d lo = C.colwise().minCoeff(), hi = C.colwise().maxCoeff();
-  const double h = (hi - lo).maxCoeff() / grid;
-  Eigen::Array3i N;
-  for (int a = 0; a < 3; ++a) N[a] = static_cast<int>(std::ceil((hi[a] - lo[a]) / h - 1e-9)) + 2 * pad + 1;
-  const Vector3d origin = lo - Vector3d::Constant(pad * h);
-  const Index nodes = static_cast<Index>(N[0]) * N[1] * N[2];
+  const CageGrid g = make_cage_grid(C, grid);
   require_memory(
-      harmonic_grid_memory(C, CF, nodes, h, n),
-      "harmonic_cage_coordinates: grid " + std::to_string(grid) + " (" + std::to_string(nodes) + " nodes)");
-  auto id = [&](int x, int y, int z) { return (static_cast<Index>(x) * N[1] + y) * N[2] + z; };
-  auto pos = [&](int x, int y, int z) { return Vector3d(origin + h * Vector3d(x, y, z)); };
-
-  // Rasterize the triangles into the nodes within √3 h: closest face and its barycentric coordinates.
-  const double band = std::sqrt(3.0) * h * (1.0 + 1e-9);
-  std::vector<double> dist(nodes, INFINITY);
-  std::vector<int> face(nodes, -1);
-  std::vector<Vector3d> bary(nodes);
-  for (Index f = 0; f < CF.rows(); ++f) {
-    const Vector3d a = C.row(CF(f, 0)), b = C.row(CF(f, 1)), c = C.row(CF(f, 2));
-    const Vector3d fmin = a.cwiseMin(b).cwiseMin(c) - Vector3d::Constant(band),
-                   fmax = a.cwiseMax(b).cwiseMax(c) + Vector3d::Constant(band);
-    Eigen::Array3i i0, i1;
-    for (int t = 0; t < 3; ++t) {
-      i0[t] = std::max(0, static_cast<int>(std::ceil((fmin[t] - origin[t]) / h)));
-      i1[t] = std::min(N[t] - 1, static_cast<int>(std::floor((fmax[t] - origin[t]) / h)));
-    }
-    for (int x = i0[0]; x <= i1[0]; ++x)
-      for (int y = i0[1]; y <= i1[1]; ++y)
-        for (int z = i0[2]; z <= i1[2]; ++z) {
-          Vector3d bc;
-          const double dd = std::sqrt(closest_on_triangle(pos(x, y, z), a, b, c, bc));
-          const Index v = id(x, y, z);
-          if (dd <= band && dd < dist[v]) {
-            dist[v] = dd;
-            face[v] = static_cast<int>(f);
-            bary[v] = bc;
-          }
-        }
-  }
-  // Classify: boundary (≤ h/2), exterior (flood fill from the border through non-boundary nodes), interior.
-  enum : unsigned char { kUnknown, kBoundary, kExterior };
-  std::vector<unsigned char> cls(nodes, kUnknown);
-  for (Index v = 0; v < nodes; ++v)
-    if (dist[v] <= 0.5 * h * (1.0 + 1e-6)) cls[v] = kBoundary;
-  std::vector<Index> stack;
-  auto push = [&](Index v) {
-    if (cls[v] == kUnknown) cls[v] = kExterior, stack.push_back(v);
-  };
-  push(id(0, 0, 0));
-  const int dx[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  while (!stack.empty()) {
-    const Index v = stack.back();
-    stack.pop_back();
-    const int x = static_cast<int>(v / (static_cast<Index>(N[1]) * N[2])),
-              y = static_cast<int>((v / N[2]) % N[1]), z = static_cast<int>(v % N[2]);
-    for (const auto& d : dx) {
-      const int X2 = x + d[0], Y2 = y + d[1], Z2 = z + d[2];
-      if (X2 >= 0 && Y2 >= 0 && Z2 >= 0 && X2 < N[0] && Y2 < N[1] && Z2 < N[2]) push(id(X2, Y2, Z2));
-    }
-  }
-  // The unknowns, numbered in the grid's nested-dissection order (linalg/geometric_ordering.hpp): the
-  // factorization takes them as numbered, without a graph partitioner.
-  std::vector<std::array<int, 3>> at;
-  for (int x = 0; x < N[0]; ++x)
-    for (int y = 0; y < N[1]; ++y)
-      for (int z = 0; z < N[2]; ++z)
-        if (cls[id(x, y, z)] == kUnknown) at.push_back({x, y, z});
-  const auto m = static_cast<Index>(at.size());
-  if (m == 0)
-    throw Error("harmonic_cage_coordinates: no grid node inside the cage (grid " + std::to_string(grid) +
-                " too coarse)");
-  std::vector<Index> unknown(nodes, -1);
-  {
-    const std::vector<int> order = grid_nested_dissection(at);
-    for (Index r = 0; r < m; ++r) {
-      const auto& [x, y, z] = at[static_cast<std::size_t>(order[static_cast<std::size_t>(r)])];
-      unknown[id(x, y, z)] = r;
-    }
-  }
-
-  // The 7-point Laplacian on the interior nodes (rows scaled by h²), boundary neighbours to the rhs.
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(4 * m);
-  Eigen::MatrixXd B(m, k);  // m × (cage vertices): ~95 MB at grid 64, advised before it is zeroed
-  advise_huge_pages(B.data(), static_cast<std::size_t>(B.size()) * sizeof(double));
-  B.setZero();
-  for (int x = 0; x < N[0]; ++x)
-    for (int y = 0; y < N[1]; ++y)
-      for (int z = 0; z < N[2]; ++z) {
-        const Index v = id(x, y, z), r = unknown[v];
-        if (r < 0) continue;
-        t.emplace_back(r, r, 6.0);
-        for (const auto& d : dx) {
-          const Index w = id(x + d[0], y + d[1], z + d[2]);  // never off the grid: the border is exterior
-          if (unknown[w] >= 0) {
-            if (unknown[w] < r) t.emplace_back(r, unknown[w], -1.0);  // lower triangle
-          } else {
-            if (cls[w] != kBoundary)
-              throw numerical_error("harmonic_cage_coordinates: interior node next to an exterior node");
-            for (int c = 0; c < 3; ++c) B(r, CF(face[w], c)) += bary[w][c];
-          }
-        }
-      }
-  Eigen::SparseMatrix<double> A(m, m);
-  A.setFromTriplets(t.begin(), t.end());
-  CholeskySolver solver({.ordering = CholeskySolver::Ordering::Natural});  // numbered in ND order above
-  solver.compute(A);
-  const Eigen::MatrixXd U = solver.solve(B);
-  B.resize(0, 0);
-
-  // Trilinear interpolation at the points.
-  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(n, k);
-  bool missing = false;
-#pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend)) \
-    reduction(||                                                                         \
-              : missing)
-  for (Index i = 0; i < n; ++i) {
-    const Vector3d s = (X.row(i).transpose() - origin) / h;
-    int c0[3];
-    double f[3];
-    for (int a = 0; a < 3; ++a) {
-      c0[a] = std::clamp(static_cast<int>(std::floor(s[a])), 0, N[a] - 2);
-      f[a] = s[a] - c0[a];
-    }
-    for (int corner = 0; corner < 8; ++corner) {
-      const int ox = corner & 1, oy = (corner >> 1) & 1, oz = (corner >> 2) & 1;
-      const double w = (ox ? f[0] : 1 - f[0]) * (oy ? f[1] : 1 - f[1]) * (oz ? f[2] : 1 - f[2]);
-      if (w == 0.0) continue;
-      const Index v = id(c0[0] + ox, c0[1] + oy, c0[2] + oz);
-      if (unknown[v] >= 0) {
-        W.row(i) += w * U.row(unknown[v]);
-      } else if (face[v] >= 0) {
-        for (int c = 0; c < 3; ++c) W(i, CF(face[v], c)) += w * bary[v][c];
-      } else {
-        missing = true;
-      }
-    }
-  }
-  if (missing) throw numerical_error("harmonic_cage_coordinates: a point's cell has a node without a value");
-  return W;
+      harmonic_grid_memory(C, CF, g.nodes, g.h, n),
+      "harmonic_cage_coordinates: grid " + std::to_string(grid) + " (" + std::to_string(g.nodes) + " nodes)");
+  const CageRaster raster = rasterize_cage(g, C, CF);
+  const std::vector<unsigned char> cls = classify_nodes(g, raster.dist);
+  const GridUnknowns u = number_unknowns(g, cls, grid);
+  const Eigen::MatrixXd U = solve_interior(g, cls, raster, u, CF, k);
+  return interpolate_nodes(g, X, u, raster, U, CF, k);
 }
 
 }  // namespace spinmotor

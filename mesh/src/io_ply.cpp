@@ -123,21 +123,47 @@ struct Roles {
   int indices = -1;            // property index in `face`
 };
 
-}  // namespace
+// The header: the body's format and its elements in file order.
+struct PlyHeader {
+  Format format = Format::Ascii;
+  std::vector<Element> elements;
+};
 
-Mesh read_ply(const fs::path& path) {
-  const std::string bytes = read_file_bytes(path);
-  if (bytes.empty()) fail(path, 0, "the file is empty");
+// The two elements the reader keeps (pointers into PlyHeader::elements) and their properties of interest.
+struct PlyLayout {
+  const Element* vertex = nullptr;
+  const Element* face = nullptr;
+  Roles roles;
+};
 
-  // ---- header ----
-  LineReader lines(bytes);
+// Parses one 'property' line (tokens `tok`, line `ln`) into a Property. Throws on a malformed line.
+Property parse_property(const fs::path& path, std::size_t ln, const std::vector<std::string_view>& tok) {
+  Property p;
+  if (tok.size() == 5 && tok[1] == "list") {
+    p.list = true;
+    if (!parse_type(tok[2], p.count_type) || !is_integer(p.count_type))
+      fail(path, ln, "bad list count type '" + std::string(tok[2]) + "'");
+    if (!parse_type(tok[3], p.type)) fail(path, ln, "unknown property type '" + std::string(tok[3]) + "'");
+    p.name = tok[4];
+  } else if (tok.size() == 3) {
+    if (!parse_type(tok[1], p.type)) fail(path, ln, "unknown property type '" + std::string(tok[1]) + "'");
+    p.name = tok[2];
+  } else {
+    fail(path, ln, "expected 'property <type> <name>' or 'property list <type> <type> <name>'");
+  }
+  return p;
+}
+
+// Reads the header from the first line through 'end_header', leaving `lines` at the body's first
+// line. Returns the format and the elements; throws on a missing 'ply' line, an unknown keyword, a
+// malformed line, a header without 'end_header' or without 'format'.
+PlyHeader read_header(const fs::path& path, LineReader& lines) {
   std::string_view line;
   std::vector<std::string_view> tok;
   if (!lines.next(line) || (split_tokens(line, tok, false), tok.size() != 1 || tok[0] != "ply"))
     fail(path, 1, "not a PLY file (the first line must be 'ply')");
-  Format format = Format::Ascii;
+  PlyHeader h;
   bool have_format = false, have_end = false;
-  std::vector<Element> elements;
   while (lines.next(line)) {
     const std::size_t ln = lines.line_number();
     split_tokens(line, tok, false);
@@ -151,11 +177,11 @@ Mesh read_ply(const fs::path& path) {
     } else if (kw == "format") {
       if (tok.size() < 2) fail(path, ln, "incomplete 'format' line");
       if (tok[1] == "ascii")
-        format = Format::Ascii;
+        h.format = Format::Ascii;
       else if (tok[1] == "binary_little_endian")
-        format = Format::BinaryLE;
+        h.format = Format::BinaryLE;
       else if (tok[1] == "binary_big_endian")
-        format = Format::BinaryBE;
+        h.format = Format::BinaryBE;
       else
         fail(path, ln, "unknown PLY format '" + std::string(tok[1]) + "'");
       have_format = true;
@@ -163,187 +189,204 @@ Mesh read_ply(const fs::path& path) {
       long long count = 0;
       if (tok.size() != 3 || !parse_long(tok[2], count) || count < 0 || count > 2147483647LL)
         fail(path, ln, "expected 'element <name> <count>'");
-      elements.push_back({std::string(tok[1]), count, {}});
+      h.elements.push_back({std::string(tok[1]), count, {}});
     } else if (kw == "property") {
-      if (elements.empty()) fail(path, ln, "'property' before any 'element'");
-      Property p;
-      if (tok.size() == 5 && tok[1] == "list") {
-        p.list = true;
-        if (!parse_type(tok[2], p.count_type) || !is_integer(p.count_type))
-          fail(path, ln, "bad list count type '" + std::string(tok[2]) + "'");
-        if (!parse_type(tok[3], p.type))
-          fail(path, ln, "unknown property type '" + std::string(tok[3]) + "'");
-        p.name = tok[4];
-      } else if (tok.size() == 3) {
-        if (!parse_type(tok[1], p.type))
-          fail(path, ln, "unknown property type '" + std::string(tok[1]) + "'");
-        p.name = tok[2];
-      } else {
-        fail(path, ln, "expected 'property <type> <name>' or 'property list <type> <type> <name>'");
-      }
-      elements.back().props.push_back(std::move(p));
+      if (h.elements.empty()) fail(path, ln, "'property' before any 'element'");
+      h.elements.back().props.push_back(parse_property(path, ln, tok));
     } else {
       fail(path, ln, "unknown header keyword '" + std::string(kw) + "'");
     }
   }
   if (!have_end) fail(path, lines.line_number(), "unexpected end of file in the header (no 'end_header')");
   if (!have_format) fail(path, 0, "the header has no 'format' line");
+  return h;
+}
 
-  Roles roles;
-  const Element* vertex_el = nullptr;
-  const Element* face_el = nullptr;
+// Finds the 'vertex' element with its x, y, z properties and the 'face' element with its index list
+// (the last element of each name is the one read). Throws when either is missing, the face element is
+// empty or its list holds non-integers.
+PlyLayout find_layout(const fs::path& path, const std::vector<Element>& elements) {
+  PlyLayout l;
   for (const Element& e : elements) {
     if (e.name == "vertex") {
-      vertex_el = &e;
+      l.vertex = &e;
       for (std::size_t i = 0; i < e.props.size(); ++i) {
         const Property& p = e.props[i];
         if (p.list) continue;
-        if (p.name == "x") roles.x = static_cast<int>(i);
-        if (p.name == "y") roles.y = static_cast<int>(i);
-        if (p.name == "z") roles.z = static_cast<int>(i);
+        if (p.name == "x") l.roles.x = static_cast<int>(i);
+        if (p.name == "y") l.roles.y = static_cast<int>(i);
+        if (p.name == "z") l.roles.z = static_cast<int>(i);
       }
     } else if (e.name == "face") {
-      face_el = &e;
+      l.face = &e;
       for (std::size_t i = 0; i < e.props.size(); ++i)
         if (e.props[i].list && (e.props[i].name == "vertex_indices" || e.props[i].name == "vertex_index"))
-          roles.indices = static_cast<int>(i);
+          l.roles.indices = static_cast<int>(i);
     }
   }
-  if (!vertex_el || roles.x < 0 || roles.y < 0 || roles.z < 0)
+  if (!l.vertex || l.roles.x < 0 || l.roles.y < 0 || l.roles.z < 0)
     fail(path, 0, "the header has no 'vertex' element with x, y and z properties");
-  if (!face_el || face_el->count == 0)
+  if (!l.face || l.face->count == 0)
     fail(path, 0, "no faces (the header has no 'face' element or it is empty)");
-  if (roles.indices < 0) fail(path, 0, "the 'face' element has no 'vertex_indices' list");
-  if (!is_integer(face_el->props[roles.indices].type))
+  if (l.roles.indices < 0) fail(path, 0, "the 'face' element has no 'vertex_indices' list");
+  if (!is_integer(l.face->props[l.roles.indices].type))
     fail(path, 0, "the face 'vertex_indices' list has a non-integer item type");
+  return l;
+}
+
+// The coordinate (0, 1, 2) vertex property `pi` holds, or -1 when it is none of x, y, z.
+int coordinate_of(const Roles& roles, std::size_t pi) {
+  const int i = static_cast<int>(pi);
+  return i == roles.x ? 0 : i == roles.y ? 1 : i == roles.z ? 2 : -1;
+}
+
+// Appends face f's polygon `poly` to s.F, fan-triangulated, after checking it has at least 3 vertices
+// and every index is below `vertex_count`; ln is its line (ASCII) or 0 (binary).
+void add_polygon(const fs::path& path, const std::vector<long long>& poly, long long f, std::size_t ln,
+                 long long vertex_count, Soup& s) {
+  if (poly.size() < 3)
+    fail(path, ln,
+         "face " + std::to_string(f) + " has " + std::to_string(poly.size()) +
+             " vertices (at least 3 needed)");
+  for (long long i : poly)
+    if (i < 0 || i >= vertex_count)
+      fail(path, ln,
+           "face " + std::to_string(f) + ": vertex index " + std::to_string(i) +
+               " out of range (the file has " + std::to_string(vertex_count) + " vertices)");
+  for (std::size_t c = 1; c + 1 < poly.size(); ++c) {
+    s.F.push_back(static_cast<int>(poly[0]));
+    s.F.push_back(static_cast<int>(poly[c]));
+    s.F.push_back(static_cast<int>(poly[c + 1]));
+  }
+}
+
+// Reads the ASCII body from `lines` (one item per non-blank line, elements in header order) into s.V
+// and s.F. Throws on a missing line, too few values, or a value that does not parse.
+void read_ascii_body(const fs::path& path, LineReader& lines, const PlyHeader& h, const PlyLayout& l,
+                     Soup& s) {
+  std::string_view line;
+  std::vector<std::string_view> tok;
+  std::vector<long long> poly;
+  for (const Element& e : h.elements) {
+    const bool is_v = &e == l.vertex, is_f = &e == l.face;
+    for (long long i = 0; i < e.count; ++i) {
+      do {
+        if (!lines.next(line))
+          fail(path, lines.line_number(),
+               "unexpected end of file: element '" + e.name + "' announces " + std::to_string(e.count) +
+                   ", the file holds " + std::to_string(i));
+        split_tokens(line, tok, false);
+      } while (tok.empty());
+      const std::size_t ln = lines.line_number();
+      std::size_t t = 0;
+      double xyz[3] = {0, 0, 0};
+      poly.clear();
+      for (std::size_t pi = 0; pi < e.props.size(); ++pi) {
+        const Property& p = e.props[pi];
+        auto need = [&](std::size_t k) {
+          if (t + k > tok.size())
+            fail(path, ln,
+                 "too few values for element '" + e.name + "' " + std::to_string(i) + " (property '" +
+                     p.name + "')");
+        };
+        if (p.list) {
+          need(1);
+          long long k = 0;
+          if (!parse_long(tok[t], k) || k < 0) fail(path, ln, "bad list size '" + std::string(tok[t]) + "'");
+          ++t;
+          need(static_cast<std::size_t>(k));
+          if (is_f && static_cast<int>(pi) == l.roles.indices)
+            for (long long c = 0; c < k; ++c) {
+              long long idx = 0;
+              if (!parse_long(tok[t + c], idx))
+                fail(path, ln, "cannot parse '" + std::string(tok[t + c]) + "' as a vertex index");
+              poly.push_back(idx);
+            }
+          t += static_cast<std::size_t>(k);
+        } else {
+          need(1);
+          if (const int k = is_v ? coordinate_of(l.roles, pi) : -1; k >= 0) {
+            double x = 0;
+            if (!parse_double(tok[t], x))
+              fail(path, ln, "cannot parse '" + std::string(tok[t]) + "' as a number");
+            xyz[k] = x;
+          }
+          ++t;
+        }
+      }
+      if (is_v) s.V.insert(s.V.end(), xyz, xyz + 3);
+      if (is_f) add_polygon(path, poly, i, ln, l.vertex->count, s);
+    }
+  }
+}
+
+// Reads the binary body of `bytes` from byte `offset` (the end of the header; elements in header
+// order, byte order from h.format) into s.V and s.F. Throws on a truncated file or a negative list size.
+void read_binary_body(const fs::path& path, const std::string& bytes, std::size_t offset, const PlyHeader& h,
+                      const PlyLayout& l, Soup& s) {
+  const bool swap = (h.format == Format::BinaryBE) != (std::endian::native == std::endian::big);
+  const char* p = bytes.data() + offset;
+  const char* const end = bytes.data() + bytes.size();
+  std::vector<long long> poly;
+  for (const Element& e : h.elements) {
+    // An element without properties takes no bytes: skip it rather than count to its (up to 2^31)
+    // items, which a 200-byte file could ask for (found by fuzz_ply). Every other item takes at least
+    // one byte, so the file size bounds the loop.
+    if (e.props.empty()) continue;
+    const bool is_v = &e == l.vertex, is_f = &e == l.face;
+    for (long long i = 0; i < e.count; ++i) {
+      double xyz[3] = {0, 0, 0};
+      poly.clear();
+      for (std::size_t pi = 0; pi < e.props.size(); ++pi) {
+        const Property& pr = e.props[pi];
+        auto need = [&](std::size_t nbytes) {
+          if (static_cast<std::size_t>(end - p) < nbytes)
+            fail(path, 0,
+                 "unexpected end of file (truncated?) in element '" + e.name + "' " + std::to_string(i) +
+                     " of " + std::to_string(e.count) + ", property '" + pr.name + "', byte offset " +
+                     std::to_string(p - bytes.data()) + " of " + std::to_string(bytes.size()));
+        };
+        if (pr.list) {
+          need(type_size(pr.count_type));
+          const double kd = load_scalar(pr.count_type, p, swap);
+          p += type_size(pr.count_type);
+          if (kd < 0) fail(path, 0, "element '" + e.name + "' " + std::to_string(i) + ": negative list size");
+          const std::size_t k = static_cast<std::size_t>(kd), sz = type_size(pr.type);
+          need(k * sz);
+          if (is_f && static_cast<int>(pi) == l.roles.indices)
+            for (std::size_t c = 0; c < k; ++c)
+              poly.push_back(static_cast<long long>(load_scalar(pr.type, p + c * sz, swap)));
+          p += k * sz;
+        } else {
+          need(type_size(pr.type));
+          if (const int k = is_v ? coordinate_of(l.roles, pi) : -1; k >= 0)
+            xyz[k] = load_scalar(pr.type, p, swap);
+          p += type_size(pr.type);
+        }
+      }
+      if (is_v) s.V.insert(s.V.end(), xyz, xyz + 3);
+      if (is_f) add_polygon(path, poly, i, 0, l.vertex->count, s);
+    }
+  }
+}
+
+}  // namespace
+
+Mesh read_ply(const fs::path& path) {
+  const std::string bytes = read_file_bytes(path);
+  if (bytes.empty()) fail(path, 0, "the file is empty");
+  LineReader lines(bytes);
+  const PlyHeader header = read_header(path, lines);
+  const PlyLayout layout = find_layout(path, header.elements);
 
   Soup s;
   // Every element takes at least one byte: never trust a (corrupt) header beyond the file size.
-  s.V.reserve(3 * std::min<std::size_t>(static_cast<std::size_t>(vertex_el->count), bytes.size()));
-  s.F.reserve(3 * std::min<std::size_t>(static_cast<std::size_t>(face_el->count), bytes.size()));
-  std::vector<double> values;  // the current element's values of interest
-  std::vector<long long> poly;
-  // Adds face f's polygon, fan-triangulated; ln is its line (ASCII) or 0 (binary).
-  auto add_polygon = [&](long long f, std::size_t ln) {
-    if (poly.size() < 3)
-      fail(path, ln,
-           "face " + std::to_string(f) + " has " + std::to_string(poly.size()) +
-               " vertices (at least 3 needed)");
-    for (long long i : poly)
-      if (i < 0 || i >= vertex_el->count)
-        fail(path, ln,
-             "face " + std::to_string(f) + ": vertex index " + std::to_string(i) +
-                 " out of range (the file has " + std::to_string(vertex_el->count) + " vertices)");
-    for (std::size_t c = 1; c + 1 < poly.size(); ++c) {
-      s.F.push_back(static_cast<int>(poly[0]));
-      s.F.push_back(static_cast<int>(poly[c]));
-      s.F.push_back(static_cast<int>(poly[c + 1]));
-    }
-  };
-
-  if (format == Format::Ascii) {
-    for (const Element& e : elements) {
-      const bool is_v = &e == vertex_el, is_f = &e == face_el;
-      for (long long i = 0; i < e.count; ++i) {
-        do {
-          if (!lines.next(line))
-            fail(path, lines.line_number(),
-                 "unexpected end of file: element '" + e.name + "' announces " + std::to_string(e.count) +
-                     ", the file holds " + std::to_string(i));
-          split_tokens(line, tok, false);
-        } while (tok.empty());
-        const std::size_t ln = lines.line_number();
-        std::size_t t = 0;
-        double xyz[3] = {0, 0, 0};
-        poly.clear();
-        for (std::size_t pi = 0; pi < e.props.size(); ++pi) {
-          const Property& p = e.props[pi];
-          auto need = [&](std::size_t k) {
-            if (t + k > tok.size())
-              fail(path, ln,
-                   "too few values for element '" + e.name + "' " + std::to_string(i) + " (property '" +
-                       p.name + "')");
-          };
-          if (p.list) {
-            need(1);
-            long long k = 0;
-            if (!parse_long(tok[t], k) || k < 0)
-              fail(path, ln, "bad list size '" + std::string(tok[t]) + "'");
-            ++t;
-            need(static_cast<std::size_t>(k));
-            if (is_f && static_cast<int>(pi) == roles.indices)
-              for (long long c = 0; c < k; ++c) {
-                long long idx = 0;
-                if (!parse_long(tok[t + c], idx))
-                  fail(path, ln, "cannot parse '" + std::string(tok[t + c]) + "' as a vertex index");
-                poly.push_back(idx);
-              }
-            t += static_cast<std::size_t>(k);
-          } else {
-            need(1);
-            if (is_v && (static_cast<int>(pi) == roles.x || static_cast<int>(pi) == roles.y ||
-                         static_cast<int>(pi) == roles.z)) {
-              double x = 0;
-              if (!parse_double(tok[t], x))
-                fail(path, ln, "cannot parse '" + std::string(tok[t]) + "' as a number");
-              xyz[static_cast<int>(pi) == roles.x ? 0 : static_cast<int>(pi) == roles.y ? 1 : 2] = x;
-            }
-            ++t;
-          }
-        }
-        if (is_v) s.V.insert(s.V.end(), xyz, xyz + 3);
-        if (is_f) add_polygon(i, ln);
-      }
-    }
-  } else {
-    const bool swap = (format == Format::BinaryBE) != (std::endian::native == std::endian::big);
-    const char* p = bytes.data() + lines.offset();
-    const char* const end = bytes.data() + bytes.size();
-    for (const Element& e : elements) {
-      // An element without properties takes no bytes: skip it rather than count to its (up to 2^31)
-      // items, which a 200-byte file could ask for (found by fuzz_ply). Every other item takes at least
-      // one byte, so the file size bounds the loop.
-      if (e.props.empty()) continue;
-      const bool is_v = &e == vertex_el, is_f = &e == face_el;
-      for (long long i = 0; i < e.count; ++i) {
-        double xyz[3] = {0, 0, 0};
-        poly.clear();
-        for (std::size_t pi = 0; pi < e.props.size(); ++pi) {
-          const Property& pr = e.props[pi];
-          auto need = [&](std::size_t nbytes) {
-            if (static_cast<std::size_t>(end - p) < nbytes)
-              fail(path, 0,
-                   "unexpected end of file (truncated?) in element '" + e.name + "' " + std::to_string(i) +
-                       " of " + std::to_string(e.count) + ", property '" + pr.name + "', byte offset " +
-                       std::to_string(p - bytes.data()) + " of " + std::to_string(bytes.size()));
-          };
-          if (pr.list) {
-            need(type_size(pr.count_type));
-            const double kd = load_scalar(pr.count_type, p, swap);
-            p += type_size(pr.count_type);
-            if (kd < 0)
-              fail(path, 0, "element '" + e.name + "' " + std::to_string(i) + ": negative list size");
-            const std::size_t k = static_cast<std::size_t>(kd), sz = type_size(pr.type);
-            need(k * sz);
-            if (is_f && static_cast<int>(pi) == roles.indices)
-              for (std::size_t c = 0; c < k; ++c)
-                poly.push_back(static_cast<long long>(load_scalar(pr.type, p + c * sz, swap)));
-            p += k * sz;
-          } else {
-            need(type_size(pr.type));
-            if (is_v && (static_cast<int>(pi) == roles.x || static_cast<int>(pi) == roles.y ||
-                         static_cast<int>(pi) == roles.z))
-              xyz[static_cast<int>(pi) == roles.x   ? 0
-                  : static_cast<int>(pi) == roles.y ? 1
-                                                    : 2] = load_scalar(pr.type, p, swap);
-            p += type_size(pr.type);
-          }
-        }
-        if (is_v) s.V.insert(s.V.end(), xyz, xyz + 3);
-        if (is_f) add_polygon(i, 0);
-      }
-    }
-  }
+  s.V.reserve(3 * std::min<std::size_t>(static_cast<std::size_t>(layout.vertex->count), bytes.size()));
+  s.F.reserve(3 * std::min<std::size_t>(static_cast<std::size_t>(layout.face->count), bytes.size()));
+  if (header.format == Format::Ascii)
+    read_ascii_body(path, lines, header, layout, s);
+  else
+    read_binary_body(path, bytes, lines.offset(), header, layout, s);
   return s.to_mesh();
 }
 

@@ -49,19 +49,20 @@ void check_structure(const Mesh& mesh) {
                     std::to_string(mesh.F(f, c)) + ", but the mesh has " + std::to_string(n) + " vertices");
 }
 
-}  // namespace
+// Per-vertex flags: finite coordinates, referenced by a face.
+struct VertexFlags {
+  std::vector<char> finite, referenced;
+};
 
-MeshReport validate(const Mesh& mesh) {
-  check_structure(mesh);
+// Counts the non-finite and the unreferenced vertices of `mesh` into r (with the first of each) and
+// returns the per-vertex flags.
+VertexFlags check_vertices(const Mesh& mesh, MeshReport& r) {
   const Eigen::MatrixXd& V = mesh.V;
   const Eigen::MatrixXi& F = mesh.F;
-  const Eigen::Index n = V.rows(), m = F.rows();
-  MeshReport r;
-  r.vertices = n;
-  r.faces = m;
-
-  // ---- vertices: non-finite, unreferenced, duplicates ----
-  std::vector<char> finite(static_cast<std::size_t>(n), 1), referenced(static_cast<std::size_t>(n), 0);
+  const Eigen::Index n = V.rows();
+  VertexFlags flags{std::vector<char>(static_cast<std::size_t>(n), 1),
+                    std::vector<char>(static_cast<std::size_t>(n), 0)};
+  std::vector<char>&finite = flags.finite, &referenced = flags.referenced;
   for (Eigen::Index v = 0; v < n; ++v)
     if (!V.row(v).allFinite()) {
       finite[v] = 0;
@@ -70,32 +71,44 @@ MeshReport validate(const Mesh& mesh) {
   for (Eigen::Index i = 0; i < F.size(); ++i) referenced[F.data()[i]] = 1;
   for (Eigen::Index v = 0; v < n; ++v)
     if (!referenced[v] && r.unreferenced_vertices++ == 0) r.first_unreferenced_vertex = static_cast<int>(v);
-  {
-    std::vector<int> order;
-    order.reserve(static_cast<std::size_t>(n));
-    for (Eigen::Index v = 0; v < n; ++v)
-      if (finite[v]) order.push_back(static_cast<int>(v));
-    auto less = [&](int a, int b) {  // lexicographic; -0.0 == 0.0, ties by index
-      for (int k = 0; k < 3; ++k)
-        if (V(a, k) != V(b, k)) return V(a, k) < V(b, k);
-      return a < b;
-    };
-    std::sort(order.begin(), order.end(), less);
-    for (std::size_t i = 1, group = 0; i < order.size(); ++i) {
-      if (V.row(order[i]) != V.row(order[group])) {
-        group = i;
-        continue;
-      }
-      ++r.duplicate_vertices;  // order[group] is the lowest index of this position
-      if (r.first_duplicate_vertex < 0 || order[i] < r.first_duplicate_vertex) {
-        r.first_duplicate_vertex = order[i];
-        r.first_duplicate_of = order[group];
-      }
+  return flags;
+}
+
+// Counts the finite vertices of V at the exact position of a lower-indexed one into r, with the lowest
+// such vertex and the vertex it repeats.
+void count_duplicate_vertices(const Eigen::MatrixXd& V, const std::vector<char>& finite, MeshReport& r) {
+  const Eigen::Index n = V.rows();
+  std::vector<int> order;
+  order.reserve(static_cast<std::size_t>(n));
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (finite[v]) order.push_back(static_cast<int>(v));
+  auto less = [&](int a, int b) {  // lexicographic; -0.0 == 0.0, ties by index
+    for (int k = 0; k < 3; ++k)
+      if (V(a, k) != V(b, k)) return V(a, k) < V(b, k);
+    return a < b;
+  };
+  std::sort(order.begin(), order.end(), less);
+  for (std::size_t i = 1, group = 0; i < order.size(); ++i) {
+    if (V.row(order[i]) != V.row(order[group])) {
+      group = i;
+      continue;
+    }
+    ++r.duplicate_vertices;  // order[group] is the lowest index of this position
+    if (r.first_duplicate_vertex < 0 || order[i] < r.first_duplicate_vertex) {
+      r.first_duplicate_vertex = order[i];
+      r.first_duplicate_of = order[group];
     }
   }
+}
 
-  // ---- faces: proper faces, areas, degenerate ----
-  std::vector<int> proper;  // indices of faces with three distinct vertices
+// Sets r.mean_face_area (over the faces with three distinct, finite corners) and counts the degenerate
+// faces (a repeated vertex index, or an area at most kDegenerateAreaRatio times the mean) into r.
+// Returns the indices of the proper faces: those with three distinct vertex indices.
+std::vector<int> check_faces(const Mesh& mesh, const std::vector<char>& finite, MeshReport& r) {
+  const Eigen::MatrixXd& V = mesh.V;
+  const Eigen::MatrixXi& F = mesh.F;
+  const Eigen::Index m = F.rows();
+  std::vector<int> proper;
   proper.reserve(static_cast<std::size_t>(m));
   Eigen::VectorXd area = Eigen::VectorXd::Constant(m, std::nan(""));
   double area_sum = 0;
@@ -122,20 +135,31 @@ MeshReport validate(const Mesh& mesh) {
       }
     }
   }
+  return proper;
+}
 
-  // ---- edges of proper faces: boundary, non-manifold, orientation ----
-  Eigen::MatrixXi Fp(static_cast<Eigen::Index>(proper.size()), 3);
-  for (std::size_t i = 0; i < proper.size(); ++i) Fp.row(static_cast<Eigen::Index>(i)) = F.row(proper[i]);
-  const EdgeTopology t = edge_topology(Fp);
+// What the edge pass leaves for the later phases.
+struct EdgeChecks {
+  EdgeTopology t;                // the edges of the proper faces
+  UnionFind corners;             // fans: the corners 3 f + c of Fp joined across manifold edges
+  std::vector<char> on_nm_edge;  // per vertex: on a non-manifold edge
+};
+
+// The edges of the proper faces Fp (rows of the mesh's faces `proper`) on n vertices: sets r.edges and
+// counts boundary, non-manifold and inconsistently oriented edges into r (first of each, faces named by
+// mesh index). Returns the edge topology, the corner fans and the vertices on non-manifold edges.
+EdgeChecks check_edges(const Eigen::MatrixXi& Fp, const std::vector<int>& proper, Eigen::Index n,
+                       MeshReport& r) {
+  EdgeChecks ec{edge_topology(Fp), UnionFind(static_cast<std::size_t>(3 * Fp.rows())),
+                std::vector<char>(static_cast<std::size_t>(n), 0)};
+  const EdgeTopology& t = ec.t;
   r.edges = t.num_edges();
-  std::vector<char> on_nm_edge(static_cast<std::size_t>(n), 0);
   // Direction of edge e in face f: +1 if the face runs E(e,0) -> E(e,1).
   auto direction = [&](int f, Eigen::Index e) {
     for (int c = 0; c < 3; ++c)
       if (t.FE(f, c) == e) return Fp(f, (c + 1) % 3) == t.E(e, 0) ? 1 : -1;
     return 0;
   };
-  UnionFind corners(static_cast<std::size_t>(3 * Fp.rows()));  // fans: corners joined across manifold edges
   auto corner_of = [&](int f, int v) {
     for (int c = 0; c < 3; ++c)
       if (Fp(f, c) == v) return 3 * f + c;
@@ -147,7 +171,7 @@ MeshReport validate(const Mesh& mesh) {
     if (val == 1) {
       if (r.boundary_edges++ == 0) r.first_boundary_edge = ab;
     } else if (val > 2) {
-      on_nm_edge[ab[0]] = on_nm_edge[ab[1]] = 1;
+      ec.on_nm_edge[ab[0]] = ec.on_nm_edge[ab[1]] = 1;
       if (r.non_manifold_edges++ == 0) {
         r.first_non_manifold_edge = ab;
         r.non_manifold_edge_faces = val;
@@ -158,88 +182,116 @@ MeshReport validate(const Mesh& mesh) {
         r.first_inconsistent_edge = ab;
         r.inconsistent_edge_faces = {proper[f0], proper[f1]};
       }
-      for (int v : ab) corners.unite(corner_of(f0, v), corner_of(f1, v));
+      for (int v : ab) ec.corners.unite(corner_of(f0, v), corner_of(f1, v));
     }
   }
+  return ec;
+}
 
-  // ---- non-manifold vertices: more than one fan ----
-  {
-    // A vertex is on one fan iff all its corners share one root; O(m), no sort.
-    std::vector<int> root0(static_cast<std::size_t>(n), -1);
-    std::vector<char> several(static_cast<std::size_t>(n), 0);
+// Counts the vertices of Fp (on n vertices) with more than one fan of corners and on no non-manifold
+// edge into r, with the first of them and its number of fans.
+void count_non_manifold_vertices(const Eigen::MatrixXi& Fp, Eigen::Index n, EdgeChecks& ec, MeshReport& r) {
+  // A vertex is on one fan iff all its corners share one root; O(m), no sort.
+  std::vector<int> root0(static_cast<std::size_t>(n), -1);
+  std::vector<char> several(static_cast<std::size_t>(n), 0);
+  for (Eigen::Index f = 0; f < Fp.rows(); ++f)
+    for (int c = 0; c < 3; ++c) {
+      const int v = Fp(f, c), root = ec.corners.find(static_cast<int>(3 * f + c));
+      if (root0[v] < 0)
+        root0[v] = root;
+      else if (root0[v] != root)
+        several[v] = 1;
+    }
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (several[v] && !ec.on_nm_edge[v] && r.non_manifold_vertices++ == 0)
+      r.first_non_manifold_vertex = static_cast<int>(v);
+  if (r.first_non_manifold_vertex >= 0) {  // count the fans of the first one, for the message
+    std::vector<int> roots;
     for (Eigen::Index f = 0; f < Fp.rows(); ++f)
-      for (int c = 0; c < 3; ++c) {
-        const int v = Fp(f, c), root = corners.find(static_cast<int>(3 * f + c));
-        if (root0[v] < 0)
-          root0[v] = root;
-        else if (root0[v] != root)
-          several[v] = 1;
-      }
-    for (Eigen::Index v = 0; v < n; ++v)
-      if (several[v] && !on_nm_edge[v] && r.non_manifold_vertices++ == 0)
-        r.first_non_manifold_vertex = static_cast<int>(v);
-    if (r.first_non_manifold_vertex >= 0) {  // count the fans of the first one, for the message
-      std::vector<int> roots;
-      for (Eigen::Index f = 0; f < Fp.rows(); ++f)
-        for (int c = 0; c < 3; ++c)
-          if (Fp(f, c) == r.first_non_manifold_vertex)
-            roots.push_back(corners.find(static_cast<int>(3 * f + c)));
-      std::sort(roots.begin(), roots.end());
-      r.non_manifold_vertex_fans = static_cast<int>(std::unique(roots.begin(), roots.end()) - roots.begin());
-    }
+      for (int c = 0; c < 3; ++c)
+        if (Fp(f, c) == r.first_non_manifold_vertex)
+          roots.push_back(ec.corners.find(static_cast<int>(3 * f + c)));
+    std::sort(roots.begin(), roots.end());
+    r.non_manifold_vertex_fans = static_cast<int>(std::unique(roots.begin(), roots.end()) - roots.begin());
   }
+}
 
-  // ---- components, Euler characteristic, boundary loops, genus ----
+// Per-component figures for the genus, components numbered among the referenced vertices.
+struct ComponentSums {
+  Eigen::VectorXi label;       // vertex -> label of vertex_components
+  std::vector<int> comp_id;    // label -> component, -1 for an unreferenced vertex's label
+  std::vector<long long> chi;  // Euler characteristic of each component
+  std::vector<int> loops_in;   // boundary loops of each component
+};
+
+// The components of the referenced vertices of F (on n vertices) with their Euler characteristics over
+// the proper faces Fp and their edges t; sets r.components and r.euler_characteristic (loops_in is left
+// at zero for count_boundary_loops).
+ComponentSums count_components(const Eigen::MatrixXi& F, const Eigen::MatrixXi& Fp, const EdgeTopology& t,
+                               const std::vector<char>& referenced, Eigen::Index n, MeshReport& r) {
+  ComponentSums cc;
   int nlabels = 0;
-  const Eigen::VectorXi label = vertex_components(F, n, &nlabels);
-  std::vector<int> comp_id(static_cast<std::size_t>(nlabels), -1);  // label -> component among referenced
+  cc.label = vertex_components(F, n, &nlabels);
+  const Eigen::VectorXi& label = cc.label;
+  cc.comp_id.assign(static_cast<std::size_t>(nlabels), -1);
+  std::vector<int>& comp_id = cc.comp_id;
   for (Eigen::Index v = 0; v < n; ++v)
     if (referenced[v] && comp_id[label[v]] < 0) comp_id[label[v]] = r.components++;
-  std::vector<long long> chi(static_cast<std::size_t>(r.components), 0);
-  std::vector<int> loops_in(static_cast<std::size_t>(r.components), 0);
+  cc.chi.assign(static_cast<std::size_t>(r.components), 0);
+  cc.loops_in.assign(static_cast<std::size_t>(r.components), 0);
   Eigen::Index nref = 0;
   for (Eigen::Index v = 0; v < n; ++v)
     if (referenced[v]) {
       ++nref;
-      ++chi[comp_id[label[v]]];
+      ++cc.chi[comp_id[label[v]]];
     }
-  for (Eigen::Index e = 0; e < t.num_edges(); ++e) --chi[comp_id[label[t.E(e, 0)]]];
-  for (Eigen::Index f = 0; f < Fp.rows(); ++f) ++chi[comp_id[label[Fp(f, 0)]]];
+  for (Eigen::Index e = 0; e < t.num_edges(); ++e) --cc.chi[comp_id[label[t.E(e, 0)]]];
+  for (Eigen::Index f = 0; f < Fp.rows(); ++f) ++cc.chi[comp_id[label[Fp(f, 0)]]];
   r.euler_characteristic = static_cast<long long>(nref) - r.edges + Fp.rows();
-  // Boundary loops, counted without following face orientation (so the single boundary circle of a
-  // Möbius band is one loop): each connected piece of the boundary-edge graph is one loop, plus one
-  // more for every further pair of boundary edges at a pinched vertex (a figure eight is two loops).
-  // On an oriented manifold this equals boundary_loops() of topology.hpp.
-  {
-    std::vector<int> bdeg(static_cast<std::size_t>(n), 0);
-    UnionFind bgraph(static_cast<std::size_t>(n));
-    for (Eigen::Index e = 0; e < t.num_edges(); ++e)
-      if (t.valence(e) == 1) {
-        ++bdeg[t.E(e, 0)];
-        ++bdeg[t.E(e, 1)];
-        bgraph.unite(t.E(e, 0), t.E(e, 1));
-      }
-    for (Eigen::Index v = 0; v < n; ++v) {
-      if (bdeg[v] == 0) continue;
-      const int extra = bgraph.find(static_cast<int>(v)) == v ? 1 : 0;  // one per piece, at its root
-      const int pinch = std::max(0, bdeg[v] / 2 - 1);
-      r.boundary_loops += extra + pinch;
-      loops_in[comp_id[label[v]]] += extra + pinch;
-    }
-  }
+  return cc;
+}
 
+// Counts the boundary loops of the edges t (on n vertices) into r.boundary_loops and per component
+// into cc.loops_in.
+//
+// Boundary loops, counted without following face orientation (so the single boundary circle of a
+// Möbius band is one loop): each connected piece of the boundary-edge graph is one loop, plus one
+// more for every further pair of boundary edges at a pinched vertex (a figure eight is two loops).
+// On an oriented manifold this equals boundary_loops() of topology.hpp.
+void count_boundary_loops(const EdgeTopology& t, Eigen::Index n, ComponentSums& cc, MeshReport& r) {
+  std::vector<int> bdeg(static_cast<std::size_t>(n), 0);
+  UnionFind bgraph(static_cast<std::size_t>(n));
+  for (Eigen::Index e = 0; e < t.num_edges(); ++e)
+    if (t.valence(e) == 1) {
+      ++bdeg[t.E(e, 0)];
+      ++bdeg[t.E(e, 1)];
+      bgraph.unite(t.E(e, 0), t.E(e, 1));
+    }
+  for (Eigen::Index v = 0; v < n; ++v) {
+    if (bdeg[v] == 0) continue;
+    const int extra = bgraph.find(static_cast<int>(v)) == v ? 1 : 0;  // one per piece, at its root
+    const int pinch = std::max(0, bdeg[v] / 2 - 1);
+    r.boundary_loops += extra + pinch;
+    cc.loops_in[cc.comp_id[cc.label[v]]] += extra + pinch;
+  }
+}
+
+// Sets r.genus (the sum over components of (2 - chi - loops) / 2) or r.genus_note saying why there is
+// none: no faces (m == 0), not a manifold, not oriented, faces with a repeated index (fewer than m
+// proper faces), or a component whose 2 - chi - loops is negative or odd.
+void set_genus(Eigen::Index m, std::size_t proper_faces, const ComponentSums& cc, MeshReport& r) {
   if (m == 0) {
     r.genus_note = "the mesh has no faces";
   } else if (!r.is_manifold()) {
     r.genus_note = "not a manifold";
   } else if (!r.is_oriented()) {
     r.genus_note = "not consistently oriented";
-  } else if (static_cast<Eigen::Index>(proper.size()) != m) {
+  } else if (static_cast<Eigen::Index>(proper_faces) != m) {
     r.genus_note = "faces with a repeated vertex index";
   } else {
     long long g = 0;
     for (int c = 0; c < r.components; ++c) {
-      const long long twice = 2 - chi[c] - loops_in[c];
+      const long long twice = 2 - cc.chi[c] - cc.loops_in[c];
       if (twice < 0 || twice % 2 != 0) {
         g = -1;
         r.genus_note =
@@ -250,6 +302,27 @@ MeshReport validate(const Mesh& mesh) {
     }
     r.genus = static_cast<int>(g);
   }
+}
+
+}  // namespace
+
+MeshReport validate(const Mesh& mesh) {
+  check_structure(mesh);
+  const Eigen::MatrixXi& F = mesh.F;
+  const Eigen::Index n = mesh.V.rows(), m = F.rows();
+  MeshReport r;
+  r.vertices = n;
+  r.faces = m;
+  const VertexFlags flags = check_vertices(mesh, r);
+  count_duplicate_vertices(mesh.V, flags.finite, r);
+  const std::vector<int> proper = check_faces(mesh, flags.finite, r);
+  Eigen::MatrixXi Fp(static_cast<Eigen::Index>(proper.size()), 3);
+  for (std::size_t i = 0; i < proper.size(); ++i) Fp.row(static_cast<Eigen::Index>(i)) = F.row(proper[i]);
+  EdgeChecks ec = check_edges(Fp, proper, n, r);
+  count_non_manifold_vertices(Fp, n, ec, r);
+  ComponentSums cc = count_components(F, Fp, ec.t, flags.referenced, n, r);
+  count_boundary_loops(ec.t, n, cc, r);
+  set_genus(m, proper.size(), cc, r);
   return r;
 }
 

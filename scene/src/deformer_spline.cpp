@@ -94,62 +94,71 @@ json end_handle_error(const Scene& s, int from, int to, const ga::Mot& first, co
   return max_handle_error(s.mesh.V, V, hs, ms);
 }
 
-}  // namespace
+/// The spline's end handles: the `from` and `to` names, their indices in s.handles, the rig of the two.
+struct SplineEnds {
+  std::string from, to;
+  int ifrom = -1, ito = -1;
+  Rig rig;
+};
 
-std::unique_ptr<SceneDeformer> bind_spline(const Scene& s) {
+/// Reads `from` and `to` of the deformer block; throws on an unknown handle or the same handle twice.
+SplineEnds spline_ends(const Scene& s) {
   const json& b = s.deformer;
   const std::string from = b["from"].get<std::string>(), to = b["to"].get<std::string>();
   s.handle(from, "/deformer/from");
   s.handle(to, "/deformer/to");
   if (from == to) throw s.error("/deformer/to", "`from` and `to` must be different handles");
   const int ifrom = s.handle_index(from), ito = s.handle_index(to);
-  const Rig rig{.handles = {s.handles[ifrom], s.handles[ito]}};
+  return {from, to, ifrom, ito, Rig{.handles = {s.handles[ifrom], s.handles[ito]}}};
+}
 
-  SplineDeformer::Options o;
-  o.basis = deformer_option(s, "basis", o.basis);
-  o.degree = b.value("degree", o.degree);
-  o.weights = deformer_option(s, "weights", o.weights);
-  const json fit = b.value("fit", json::object());
-  const bool chain_mode = s.ik.has_value() || fit.contains("posed");
-  auto bound = [&](auto&& bind) {
+/// Key mode: a SplineDeformer driven by the named key motors `keys` (none: the end handles' motors as
+/// two keys, linear unless `basis` is given) with options `o`. Throws on a `fit` block, a duplicate key
+/// or a basis the keys do not suit; bind errors are prefixed with the scene's name.
+std::unique_ptr<SceneDeformer> bind_keyed_spline(const Scene& s, const SplineEnds& ends,
+                                                 SplineDeformer::Options o, const json& fit) {
+  const json& b = s.deformer;
+  if (fit.size() > 0)
+    throw s.error("/deformer/fit", "a fit needs a posed chain: an `ik` block or `fit.posed`");
+  std::vector<std::string> keys = {ends.from,
+                                   ends.to};  // no `keys`: the end handles' motors are the two keys
+  if (b.contains("keys")) {
+    keys = b["keys"].get<std::vector<std::string>>();
+  } else if (!b.contains("basis")) {
+    o.basis = SplineBasis::Linear;
+  }
+  for (std::size_t i = 0; i < keys.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (keys[i] == keys[j])
+        throw s.error("/deformer/keys/" + std::to_string(i), "duplicate key name '" + keys[i] + "'");
+  o.keys = static_cast<int>(keys.size());
+  o.key_names = keys;
+  try {
+    check_spline(o.basis, o.keys, o.degree);
+  } catch (const Error& e) {
+    throw s.error(b.contains("keys") ? "/deformer/keys" : "/deformer/basis", e.what());
+  }
+  const int ifrom = ends.ifrom, ito = ends.ito;
+  auto report = [&s, ifrom, ito](const AnyDeformer&, std::span<const ga::Mot> m, const Eigen::MatrixXd& V) {
+    return json{{"max_handle_error", end_handle_error(s, ifrom, ito, m.front(), m.back(), V)}};
+  };
+  SplineDeformer d = [&] {
     try {
-      return bind();
+      return SplineDeformer::bind(s.mesh, ends.rig, o);
     } catch (const Error& e) {
       throw Error(s.name() + ": " + e.what(), e.kind());
     }
-  };
+  }();
+  return std::make_unique<SceneDeformer>(s, std::move(d), report);
+}
 
-  if (!chain_mode) {
-    if (fit.size() > 0)
-      throw s.error("/deformer/fit", "a fit needs a posed chain: an `ik` block or `fit.posed`");
-    std::vector<std::string> keys = {from, to};  // no `keys`: the end handles' motors are the two keys
-    if (b.contains("keys")) {
-      keys = b["keys"].get<std::vector<std::string>>();
-    } else if (!b.contains("basis")) {
-      o.basis = SplineBasis::Linear;
-    }
-    for (std::size_t i = 0; i < keys.size(); ++i)
-      for (std::size_t j = 0; j < i; ++j)
-        if (keys[i] == keys[j])
-          throw s.error("/deformer/keys/" + std::to_string(i), "duplicate key name '" + keys[i] + "'");
-    o.keys = static_cast<int>(keys.size());
-    o.key_names = keys;
-    try {
-      check_spline(o.basis, o.keys, o.degree);
-    } catch (const Error& e) {
-      throw s.error(b.contains("keys") ? "/deformer/keys" : "/deformer/basis", e.what());
-    }
-    auto report = [&s, ifrom, ito](const AnyDeformer&, std::span<const ga::Mot> m, const Eigen::MatrixXd& V) {
-      return json{{"max_handle_error", end_handle_error(s, ifrom, ito, m.front(), m.back(), V)}};
-    };
-    return std::make_unique<SceneDeformer>(s, bound([&] { return SplineDeformer::bind(s.mesh, rig, o); }),
-                                           report);
-  }
-
-  // Chain mode (§III.C): joint motors → B-spline fit → control generators.
+/// Chain mode (§III.C) checks: the bspline basis, no `keys`, the rest chain from the `ik` block or
+/// `fit.chain` (not both), enough controls. Sets o.keys to the control count (`fit.controls`, default
+/// max(degree + 1, joints)) and returns the rest chain.
+Eigen::MatrixXd chain_rest(const Scene& s, const json& fit, SplineDeformer::Options& o) {
   if (o.basis != SplineBasis::BSpline)
     throw s.error("/deformer/basis", "fitting a joint chain (§III.C) needs the bspline basis");
-  if (b.contains("keys"))
+  if (s.deformer.contains("keys"))
     throw s.error("/deformer/keys", "the key motors come from the chain fit: remove `keys`");
   Eigen::MatrixXd rest = s.ik ? s.ik->chain : Eigen::MatrixXd();
   if (s.ik) {
@@ -165,57 +174,70 @@ std::unique_ptr<SceneDeformer> bind_spline(const Scene& s) {
   if (o.keys < o.degree + 1)
     throw s.error("/deformer/fit/controls", "degree " + std::to_string(o.degree) + " needs at least " +
                                                 std::to_string(o.degree + 1) + " controls");
+  return rest;
+}
 
-  if (s.ik) {
-    SplineIkDeformer::Options io;
-    io.controls = o.keys;
-    io.degree = o.degree;
-    io.weights = o.weights;
-    Rig ik_rig = rig;
-    ik_rig.ik = IkChain{.chain = s.ik->chain,
-                        .target = s.ik->target,
-                        .tolerance = s.ik->tolerance,
-                        .iterations = s.ik->iterations,
-                        .orientation = s.ik->orientation};
-    SplineIkDeformer d = [&] {
-      try {
-        return SplineIkDeformer::bind(s.mesh, ik_rig, io);
-      } catch (const Error& e) {
-        const std::string msg = e.what();
-        // A failed first solve (FABRIK or the fit) is a problem of the ik block; the rest of the mesh's.
-        if (is_chain_error(msg)) throw s.error("/ik", msg);
-        throw Error(s.name() + ": " + msg, e.kind());
-      }
-    }();
-    json bind_report = {{"fit", fit_report(d.chain_fit(), d.fit_ms())},
-                        {"posed_chain", to_json(d.fabrik_result().joints)},
-                        {"ik_ms", d.fabrik_ms()}};
-    auto report = [&s, ifrom, ito](const AnyDeformer& any, std::span<const ga::Mot>,
-                                   const Eigen::MatrixXd& V) {
-      const SplineIkDeformer& ik = *any.get<SplineIkDeformer>();
-      const auto& c = ik.chain_fit().fit.controls;
-      const Eigen::Vector3d tip = handle_centroid(V, s.handles[ito]), t = ik.target();
-      const FabrikResult& f = ik.fabrik_result();
-      return json{{"max_handle_error", end_handle_error(s, ifrom, ito, c.front(), c.back(), V)},
-                  {"ik",
-                   {{"target", {t.x(), t.y(), t.z()}},
-                    {"reachable", f.reachable},
-                    {"converged", f.converged},
-                    {"iterations", f.iterations},
-                    {"fabrik_error", f.error},
-                    {"tip", {tip.x(), tip.y(), tip.z()}},
-                    {"tip_error", (tip - t).norm()}}}};
-    };
-    return std::make_unique<SceneDeformer>(s, std::move(d), report, bind_report);
-  }
+/// Chain mode with an `ik` block: a SplineIkDeformer (FABRIK, then the B-spline fit) with o's controls,
+/// degree and weights; reports the fit, the posed chain and the IK solve. A failed first solve is an
+/// error of /ik, any other bind error is prefixed with the scene's name.
+std::unique_ptr<SceneDeformer> bind_ik_spline(const Scene& s, const SplineEnds& ends,
+                                              const SplineDeformer::Options& o) {
+  SplineIkDeformer::Options io;
+  io.controls = o.keys;
+  io.degree = o.degree;
+  io.weights = o.weights;
+  Rig ik_rig = ends.rig;
+  ik_rig.ik = IkChain{.chain = s.ik->chain,
+                      .target = s.ik->target,
+                      .tolerance = s.ik->tolerance,
+                      .iterations = s.ik->iterations,
+                      .orientation = s.ik->orientation};
+  SplineIkDeformer d = [&] {
+    try {
+      return SplineIkDeformer::bind(s.mesh, ik_rig, io);
+    } catch (const Error& e) {
+      const std::string msg = e.what();
+      // A failed first solve (FABRIK or the fit) is a problem of the ik block; the rest of the mesh's.
+      if (is_chain_error(msg)) throw s.error("/ik", msg);
+      throw Error(s.name() + ": " + msg, e.kind());
+    }
+  }();
+  json bind_report = {{"fit", fit_report(d.chain_fit(), d.fit_ms())},
+                      {"posed_chain", to_json(d.fabrik_result().joints)},
+                      {"ik_ms", d.fabrik_ms()}};
+  const int ifrom = ends.ifrom, ito = ends.ito;
+  auto report = [&s, ifrom, ito](const AnyDeformer& any, std::span<const ga::Mot>, const Eigen::MatrixXd& V) {
+    const SplineIkDeformer& ik = *any.get<SplineIkDeformer>();
+    const auto& c = ik.chain_fit().fit.controls;
+    const Eigen::Vector3d tip = handle_centroid(V, s.handles[ito]), t = ik.target();
+    const FabrikResult& f = ik.fabrik_result();
+    return json{{"max_handle_error", end_handle_error(s, ifrom, ito, c.front(), c.back(), V)},
+                {"ik",
+                 {{"target", {t.x(), t.y(), t.z()}},
+                  {"reachable", f.reachable},
+                  {"converged", f.converged},
+                  {"iterations", f.iterations},
+                  {"fabrik_error", f.error},
+                  {"tip", {tip.x(), tip.y(), tip.z()}},
+                  {"tip_error", (tip - t).norm()}}}};
+  };
+  return std::make_unique<SceneDeformer>(s, std::move(d), report, bind_report);
+}
 
+/// Chain mode with `fit.posed`: a PosedChainSpline fitted once to the posed chain against the rest
+/// chain `rest`; reports the fit and the posed chain. Throws when the two chains differ in length; a
+/// failed fit is an error of /deformer/fit, any other bind error is prefixed with the scene's name.
+std::unique_ptr<SceneDeformer> bind_posed_chain_spline(const Scene& s, const SplineEnds& ends,
+                                                       const SplineDeformer::Options& o,
+                                                       const Eigen::MatrixXd& rest, const json& fit) {
   const Eigen::MatrixXd posed = points(fit["posed"]);
   if (posed.rows() != rest.rows())
     throw s.error("/deformer/fit/posed", "has " + std::to_string(posed.rows()) + " joints, `chain` has " +
                                              std::to_string(rest.rows()));
   PosedChainSpline d = [&] {
     try {
-      return PosedChainSpline::bind(s.mesh, rig, {.spline = o, .rest_chain = rest, .posed_chain = posed});
+      return PosedChainSpline::bind(s.mesh, ends.rig,
+                                    {.spline = o, .rest_chain = rest, .posed_chain = posed});
     } catch (const Error& e) {
       const std::string msg = e.what();
       if (is_chain_error(msg)) throw s.error("/deformer/fit", msg);
@@ -223,11 +245,30 @@ std::unique_ptr<SceneDeformer> bind_spline(const Scene& s) {
     }
   }();
   json bind_report = {{"fit", fit_report(d.chain_fit(), d.fit_ms())}, {"posed_chain", to_json(posed)}};
+  const int ifrom = ends.ifrom, ito = ends.ito;
   auto report = [&s, ifrom, ito](const AnyDeformer& any, std::span<const ga::Mot>, const Eigen::MatrixXd& V) {
     const auto& c = any.get<PosedChainSpline>()->chain_fit().fit.controls;
     return json{{"max_handle_error", end_handle_error(s, ifrom, ito, c.front(), c.back(), V)}};
   };
   return std::make_unique<SceneDeformer>(s, std::move(d), report, bind_report);
+}
+
+}  // namespace
+
+std::unique_ptr<SceneDeformer> bind_spline(const Scene& s) {
+  const json& b = s.deformer;
+  const SplineEnds ends = spline_ends(s);
+  SplineDeformer::Options o;
+  o.basis = deformer_option(s, "basis", o.basis);
+  o.degree = b.value("degree", o.degree);
+  o.weights = deformer_option(s, "weights", o.weights);
+  const json fit = b.value("fit", json::object());
+  const bool chain_mode = s.ik.has_value() || fit.contains("posed");
+  if (!chain_mode) return bind_keyed_spline(s, ends, o, fit);
+  // Chain mode (§III.C): joint motors → B-spline fit → control generators.
+  const Eigen::MatrixXd rest = chain_rest(s, fit, o);
+  if (s.ik) return bind_ik_spline(s, ends, o);
+  return bind_posed_chain_spline(s, ends, o, rest, fit);
 }
 
 }  // namespace spinmotor::scene

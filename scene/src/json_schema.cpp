@@ -170,13 +170,20 @@ const json& JsonSchema::resolve(const std::string& ref) const {
 }
 
 void JsonSchema::check(const json& s, const json& x, const std::string& path, std::vector<Issue>& out) const {
-  using K = Issue::Kind;
   if (s.is_boolean()) {
-    if (!s.get<bool>()) out.push_back({path, "is not allowed here", K::Key});
+    if (!s.get<bool>()) out.push_back({path, "is not allowed here", Issue::Kind::Key});
     return;
   }
   if (auto it = s.find("$ref"); it != s.end()) return check(resolve(it->get<std::string>()), x, path, out);
+  if (!check_type(s, x, path, out) || !check_constant(s, x, path, out)) return;
+  check_bounds(s, x, path, out);
+  if (x.is_array()) check_array(s, x, path, out);
+  if (x.is_object()) check_object(s, x, path, out);
+  check_combinators(s, x, path, out);
+}
 
+bool JsonSchema::check_type(const json& s, const json& x, const std::string& path, std::vector<Issue>& out) {
+  using K = Issue::Kind;
   if (auto it = s.find("type"); it != s.end()) {
     std::vector<std::string> types;
     if (it->is_string())
@@ -187,7 +194,7 @@ void JsonSchema::check(const json& s, const json& x, const std::string& path, st
       std::string want;
       for (std::size_t i = 0; i < types.size(); ++i) want += (i ? " or " : "") + article(types[i]);
       out.push_back({path, "expected " + want + ", got " + type_name(x), K::Type});
-      return;
+      return false;
     }
     // The loader reads every "integer" as an int: 1e300 (integral, so an integer above) or 2^40 would
     // not convert (undefined behaviour for a float, found by fuzz_scene; a silent wrap for an integer).
@@ -196,21 +203,33 @@ void JsonSchema::check(const json& s, const json& x, const std::string& path, st
     if (integer && x.is_number() && !fits_int(x)) {
       out.push_back(
           {path, "integer " + show(x) + " out of range (at most 2147483647 in magnitude)", K::Value});
-      return;
+      return false;
     }
   }
+  return true;
+}
+
+bool JsonSchema::check_constant(const json& s, const json& x, const std::string& path,
+                                std::vector<Issue>& out) {
+  using K = Issue::Kind;
   if (auto it = s.find("const"); it != s.end() && x != *it) {
     out.push_back({path, "expected " + show(*it) + ", got " + show(x), K::Constant, it->dump()});
-    return;
+    return false;
   }
   if (auto it = s.find("enum"); it != s.end()) {
     if (std::find(it->begin(), it->end(), x) == it->end()) {
       std::string list;
       for (std::size_t i = 0; i < it->size(); ++i) list += (i ? ", " : "") + (*it)[i].dump();
       out.push_back({path, "expected one of " + list + ", got " + show(x), K::Constant, list});
-      return;
+      return false;
     }
   }
+  return true;
+}
+
+void JsonSchema::check_bounds(const json& s, const json& x, const std::string& path,
+                              std::vector<Issue>& out) {
+  using K = Issue::Kind;
   if (x.is_number()) {
     const double v = x.get<double>();
     if (auto it = s.find("minimum"); it != s.end() && !(v >= it->get<double>()))
@@ -229,41 +248,51 @@ void JsonSchema::check(const json& s, const json& x, const std::string& path, st
                                                  : "must have at least " + it->dump() + " characters",
                      K::Value});
   }
-  if (x.is_array()) {
-    if (auto it = s.find("minItems"); it != s.end() && x.size() < it->get<std::size_t>())
-      out.push_back(
-          {path, "expected at least " + it->dump() + " items, got " + std::to_string(x.size()), K::Value});
-    if (auto it = s.find("maxItems"); it != s.end() && x.size() > it->get<std::size_t>())
-      out.push_back(
-          {path, "expected at most " + it->dump() + " items, got " + std::to_string(x.size()), K::Value});
-    if (auto it = s.find("items"); it != s.end())
-      for (std::size_t i = 0; i < x.size(); ++i) check(*it, x[i], path + "/" + std::to_string(i), out);
-  }
-  if (x.is_object()) {
-    const auto props = s.find("properties");
-    if (auto it = s.find("required"); it != s.end())
-      for (const auto& key : *it)
-        if (!x.contains(key.get<std::string>()))
-          out.push_back({path, "missing required key '" + key.get<std::string>() + "'", K::Key});
-    const auto extra = s.find("additionalProperties");
-    for (const auto& [key, value] : x.items()) {
-      const std::string at = path + "/" + pointer_token(key);
-      if (props != s.end() && props->contains(key)) {
-        check((*props)[key], value, at, out);
-      } else if (extra != s.end()) {
-        if (extra->is_boolean() && !extra->get<bool>()) {
-          std::string allowed;
-          if (props != s.end())
-            for (const auto& [name, _] : props->items()) allowed += (allowed.empty() ? "" : ", ") + name;
-          out.push_back(
-              {at, "unknown key '" + key + "'" + (allowed.empty() ? "" : " (allowed here: " + allowed + ")"),
-               K::Key});
-        } else {
-          check(*extra, value, at, out);
-        }
+}
+
+void JsonSchema::check_array(const json& s, const json& x, const std::string& path,
+                             std::vector<Issue>& out) const {
+  using K = Issue::Kind;
+  if (auto it = s.find("minItems"); it != s.end() && x.size() < it->get<std::size_t>())
+    out.push_back(
+        {path, "expected at least " + it->dump() + " items, got " + std::to_string(x.size()), K::Value});
+  if (auto it = s.find("maxItems"); it != s.end() && x.size() > it->get<std::size_t>())
+    out.push_back(
+        {path, "expected at most " + it->dump() + " items, got " + std::to_string(x.size()), K::Value});
+  if (auto it = s.find("items"); it != s.end())
+    for (std::size_t i = 0; i < x.size(); ++i) check(*it, x[i], path + "/" + std::to_string(i), out);
+}
+
+void JsonSchema::check_object(const json& s, const json& x, const std::string& path,
+                              std::vector<Issue>& out) const {
+  using K = Issue::Kind;
+  const auto props = s.find("properties");
+  if (auto it = s.find("required"); it != s.end())
+    for (const auto& key : *it)
+      if (!x.contains(key.get<std::string>()))
+        out.push_back({path, "missing required key '" + key.get<std::string>() + "'", K::Key});
+  const auto extra = s.find("additionalProperties");
+  for (const auto& [key, value] : x.items()) {
+    const std::string at = path + "/" + pointer_token(key);
+    if (props != s.end() && props->contains(key)) {
+      check((*props)[key], value, at, out);
+    } else if (extra != s.end()) {
+      if (extra->is_boolean() && !extra->get<bool>()) {
+        std::string allowed;
+        if (props != s.end())
+          for (const auto& [name, _] : props->items()) allowed += (allowed.empty() ? "" : ", ") + name;
+        out.push_back(
+            {at, "unknown key '" + key + "'" + (allowed.empty() ? "" : " (allowed here: " + allowed + ")"),
+             K::Key});
+      } else {
+        check(*extra, value, at, out);
       }
     }
   }
+}
+
+void JsonSchema::check_combinators(const json& s, const json& x, const std::string& path,
+                                   std::vector<Issue>& out) const {
   for (const char* combinator : {"oneOf", "anyOf"}) {
     const auto it = s.find(combinator);
     if (it == s.end()) continue;
@@ -274,64 +303,69 @@ void JsonSchema::check(const json& s, const json& x, const std::string& path, st
       check((*it)[i], x, path, alt[i]);
       if (alt[i].empty()) ++matches;
     }
-    if (one && matches > 1) {
-      out.push_back({path, "matches more than one alternative", K::Value});
-    } else if (matches == 0) {
-      // The most plausible alternative: rank by the worst kind of error at (or just below) this level,
-      // then by the depth of the deepest error, then by the number of errors.
-      const int base = depth(path);
-      auto score = [&](const std::vector<Issue>& e) {
-        int rank = 0, deepest = 0;
-        for (const Issue& i : e) {
-          const int d = depth(i.path) - base;
-          if (i.kind == K::Type && d == 0) rank = std::max(rank, 3);
-          if (i.kind == K::Constant && d <= 1) rank = std::max(rank, 2);
-          if (i.kind == K::Key && d <= 1) rank = std::max(rank, 1);
-          deepest = std::max(deepest, d);
-        }
-        return std::make_tuple(rank, -deepest, e.size());
-      };
-      std::size_t best = 0;
-      for (std::size_t i = 1; i < alt.size(); ++i)
-        if (score(alt[i]) < score(alt[best])) best = i;
-      if (std::get<0>(score(alt[best])) == 3) {  // no alternative even has the right type
-        std::set<std::string> kinds;
-        std::string want;
-        for (const auto& a : alt)
-          for (const Issue& i : a)
-            if (i.kind == K::Type && depth(i.path) == base) {
-              const std::string w = i.message.substr(9, i.message.find(", got") - 9);
-              if (kinds.insert(w).second) want += (want.empty() ? "" : " or ") + w;
-            }
-        out.push_back({path, "expected " + want + ", got " + type_name(x), K::Type});
-      } else if (std::get<0>(score(alt[best])) == 2) {
-        // Every alternative rejects the same discriminating constant (e.g. /deformer/type): one message
-        // listing all the allowed values instead of the first alternative's.
-        std::string at, values;
-        bool same = true;
-        for (const auto& a : alt) {
-          if (std::get<0>(score(a)) == 3) continue;  // wrong type altogether (e.g. a string alternative)
-          const auto c = std::find_if(a.begin(), a.end(), [&](const Issue& i) {
-            return i.kind == K::Constant && depth(i.path) - base <= 1;
-          });
-          if (c == a.end() || (!at.empty() && c->path != at)) {
-            same = false;
-            break;
-          }
-          at = c->path;
-          values += (values.empty() ? "" : ", ") + c->expected;
-        }
-        if (same) {
-          const json* bad = &x;
-          if (at != path) bad = &x.at(json::json_pointer("/" + at.substr(path.size() + 1)));
-          out.push_back({at, "expected one of " + values + ", got " + show(*bad), K::Constant, values});
-        } else {
-          out.insert(out.end(), alt[best].begin(), alt[best].end());
-        }
-      } else {
-        out.insert(out.end(), alt[best].begin(), alt[best].end());
-      }
+    if (one && matches > 1)
+      out.push_back({path, "matches more than one alternative", Issue::Kind::Value});
+    else if (matches == 0)
+      report_alternatives(x, path, alt, out);
+  }
+}
+
+void JsonSchema::report_alternatives(const json& x, const std::string& path,
+                                     const std::vector<std::vector<Issue>>& alt, std::vector<Issue>& out) {
+  using K = Issue::Kind;
+  // The most plausible alternative: rank by the worst kind of error at (or just below) this level,
+  // then by the depth of the deepest error, then by the number of errors.
+  const int base = depth(path);
+  auto score = [&](const std::vector<Issue>& e) {
+    int rank = 0, deepest = 0;
+    for (const Issue& i : e) {
+      const int d = depth(i.path) - base;
+      if (i.kind == K::Type && d == 0) rank = std::max(rank, 3);
+      if (i.kind == K::Constant && d <= 1) rank = std::max(rank, 2);
+      if (i.kind == K::Key && d <= 1) rank = std::max(rank, 1);
+      deepest = std::max(deepest, d);
     }
+    return std::make_tuple(rank, -deepest, e.size());
+  };
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < alt.size(); ++i)
+    if (score(alt[i]) < score(alt[best])) best = i;
+  if (std::get<0>(score(alt[best])) == 3) {  // no alternative even has the right type
+    std::set<std::string> kinds;
+    std::string want;
+    for (const auto& a : alt)
+      for (const Issue& i : a)
+        if (i.kind == K::Type && depth(i.path) == base) {
+          const std::string w = i.message.substr(9, i.message.find(", got") - 9);
+          if (kinds.insert(w).second) want += (want.empty() ? "" : " or ") + w;
+        }
+    out.push_back({path, "expected " + want + ", got " + type_name(x), K::Type});
+  } else if (std::get<0>(score(alt[best])) == 2) {
+    // Every alternative rejects the same discriminating constant (e.g. /deformer/type): one message
+    // listing all the allowed values instead of the first alternative's.
+    std::string at, values;
+    bool same = true;
+    for (const auto& a : alt) {
+      if (std::get<0>(score(a)) == 3) continue;  // wrong type altogether (e.g. a string alternative)
+      const auto c = std::find_if(a.begin(), a.end(), [&](const Issue& i) {
+        return i.kind == K::Constant && depth(i.path) - base <= 1;
+      });
+      if (c == a.end() || (!at.empty() && c->path != at)) {
+        same = false;
+        break;
+      }
+      at = c->path;
+      values += (values.empty() ? "" : ", ") + c->expected;
+    }
+    if (same) {
+      const json* bad = &x;
+      if (at != path) bad = &x.at(json::json_pointer("/" + at.substr(path.size() + 1)));
+      out.push_back({at, "expected one of " + values + ", got " + show(*bad), K::Constant, values});
+    } else {
+      out.insert(out.end(), alt[best].begin(), alt[best].end());
+    }
+  } else {
+    out.insert(out.end(), alt[best].begin(), alt[best].end());
   }
 }
 

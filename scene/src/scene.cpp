@@ -280,12 +280,9 @@ Pose make_pose(const Scene& s, const json& p, const std::string& at) {
   return pose;
 }
 
-}  // namespace
-
-Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::string& name) {
-  Scene s;
-  s.dir = dir;
-  s.file = name;  // name() prints its filename
+// Validates `doc` against the scene schema; throws the first five errors (and how many more) under
+// s.name().
+void check_schema(const Scene& s, const json& doc) {
   const std::vector<SchemaError> errors = validator().validate(doc);
   if (!errors.empty()) {
     std::string msg = display_path(errors[0].path) + ": " + errors[0].message;
@@ -294,9 +291,12 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
     if (errors.size() > 5) msg += "\n  (" + std::to_string(errors.size() - 5) + " more)";
     throw Error(s.name() + ": " + msg);
   }
-  s.doc = doc;
+}
 
-  // Mesh: a mesh file or generator, or the surface of a glTF rig.
+// Sets s.mesh and s.mesh_source (and s.rig for a `rig` scene) from `mesh`, a mesh file or generator, or
+// `rig`, the surface of a glTF character; throws unless exactly one is given and the mesh is finite and
+// deformable.
+void read_mesh_or_rig(Scene& s, const json& doc) {
   if (doc.contains("mesh") == doc.contains("rig"))
     throw s.error(doc.contains("rig") ? "/rig" : "/mesh",
                   doc.contains("rig")
@@ -316,8 +316,11 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
   } catch (const Error& e) {
     throw s.error("/mesh", e.what());
   }
+}
 
-  // Handles: non-empty, unique names, disjoint.
+// Appends the `handles` entries (selected on s.mesh) to s.handles; throws on an empty selection, a
+// duplicate name or a vertex two handles share.
+void read_handles(Scene& s, const json& doc) {
   if (auto it = doc.find("handles"); it != doc.end()) {
     std::vector<int> owner(static_cast<std::size_t>(s.mesh.V.rows()), -1);
     for (std::size_t h = 0; h < it->size(); ++h) {
@@ -336,12 +339,11 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
       s.handles.push_back(std::move(handle));
     }
   }
+}
 
-  // Deformer block (its keys are read by the deformer type at bind).
-  s.deformer = doc["deformer"];
-  s.deformer_type = s.deformer["type"].get<std::string>();
-
-  // Poses.
+// Sets s.frames, s.animated and s.first_frame from `pose` or `frames` (a `rig` scene: one frame per
+// animation time, `pose` as edits on each); throws on both given, or on what a `rig` scene does not take.
+void read_frames(Scene& s, const json& doc) {
   if (doc.contains("pose") && doc.contains("frames"))
     throw s.error("/frames", "give either `pose` or `frames`, not both");
   if (s.rig) {
@@ -369,119 +371,155 @@ Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::
   } else {
     s.frames.push_back(Pose{{}, "/pose", {}});
   }
+}
 
-  // IK.
-  if (auto it = doc.find("ik"); it != doc.end()) {
-    IkSpec ik;
-    const json& c = (*it)["chain"];
-    ik.chain.resize(static_cast<Eigen::Index>(c.size()), 3);
-    for (std::size_t i = 0; i < c.size(); ++i)
-      ik.chain.row(static_cast<Eigen::Index>(i)) = vec3(c[i]).transpose();
-    for (Eigen::Index i = 0; i + 1 < ik.chain.rows(); ++i)
-      if (!((ik.chain.row(i + 1) - ik.chain.row(i)).norm() > 0.0))
-        throw s.error("/ik/chain/" + std::to_string(i + 1),
-                      "joint coincides with the previous joint (zero-length bone)");
-    ik.target = vec3((*it)["target"]);
-    ik.tolerance = value_or(*it, "tolerance", 1e-4);
-    ik.iterations = value_or(*it, "iterations", 50);
-    if (auto o = it->find("orientation"); o != it->end()) {
-      if (o->contains("quaternion")) {
-        const json& q = (*o)["quaternion"];
-        Eigen::Vector4d v(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>());
-        if (!(v.norm() > 0.0)) throw s.error("/ik/orientation/quaternion", "must be non-zero");
-        v.normalize();
-        ik.orientation = ga::Rot(v[0], v[1], v[2], v[3]);
-      } else {
-        const Eigen::Vector3d axis = vec3((*o)["axis"]);
-        if (!(axis.norm() > 0.0)) throw s.error("/ik/orientation/axis", "must be a non-zero vector");
-        ik.orientation = ga::rotor(axis, (*o)["degrees"].get<double>() * M_PI / 180.0);
-      }
-    }
-    s.ik = ik;
-  }
-
-  // Snap: the presence of the block asks for it unless "enabled": false.
-  if (auto it = doc.find("snap"); it != doc.end()) {
-    s.snap.enabled = value_or(*it, "enabled", true);
-    s.snap.tradeoff = value_or(*it, "tradeoff", 1.0);
-    const bool pins = it->contains("pins");
-    s.snap.mode = pins ? SnapMode::Pinned : SnapMode::Free;
-    if (it->contains("mode")) {
-      try {
-        s.snap.mode = parse_option<SnapMode>((*it)["mode"].get<std::string>());
-      } catch (const Error& e) {
-        throw s.error("/snap/mode", e.what());
-      }
-    }
-    const bool shape = s.snap.mode == SnapMode::Shape, pinned = s.snap.mode == SnapMode::Pinned;
-    s.snap.smooth_rho = value_or(*it, "smooth_rho", 0);
-    s.snap.steps = value_or(*it, "steps", 4);
-    s.snap.area_constraint = value_or(*it, "area_constraint", 0.0);
-    if (!(s.snap.mode == SnapMode::Free) && (it->contains("tradeoff") || it->contains("smooth_rho")))
-      throw s.error(
-          "/snap",
-          "`tradeoff` and `smooth_rho` belong to mode \"free\"; mode \"shape\" takes `steps` and "
-          "`area_constraint`, mode \"pinned\" takes `pins`, `keep`, `iterations` and `pose_weight`");
-    if (!shape && (it->contains("steps") || it->contains("area_constraint")))
-      throw s.error("/snap", "`steps` and `area_constraint` belong to mode \"shape\"");
-    if (!pinned &&
-        (pins || it->contains("keep") || it->contains("iterations") || it->contains("pose_weight")))
-      throw s.error("/snap", "`pins`, `keep`, `iterations` and `pose_weight` belong to mode \"pinned\"");
-    const bool weights = pins && (*it)["pins"] == "weights";
-    for (const char* key : {"pin_threshold", "pin_margin"})
-      if (it->contains(key) && !weights)
-        throw s.error(std::string("/snap/") + key, "belongs to \"pins\": \"weights\"");
-    if (pinned && weights) {
-      // Pins: the rigid parts of the skin's weights (found when the skin deformer binds, run.cpp).
-      if (s.deformer_type != "skin")
-        throw s.error("/snap/pins",
-                      "\"weights\" pins the rigid parts of a skin: the deformer must be \"skin\"");
-      s.snap.pin_weights = true;
-      s.snap.pin_threshold = value_or(*it, "pin_threshold", s.snap.pin_threshold);
-      s.snap.pin_margin = value_or(*it, "pin_margin", s.snap.pin_margin);
-    } else if (pinned) {
-      // Pins: "handles" (every handle's vertices) or a list of handle names.
-      const nlohmann::json p = pins ? (*it)["pins"] : nlohmann::json("handles");
-      if (p.is_string()) {
-        for (std::size_t h = 0; h < s.handles.size(); ++h) s.snap.pin_handles.push_back(static_cast<int>(h));
-      } else {
-        for (std::size_t k = 0; k < p.size(); ++k)
-          s.snap.pin_handles.push_back(
-              s.handle_index(s.handle(p[k].get<std::string>(), "/snap/pins/" + std::to_string(k)).name));
-      }
-      if (s.snap.pin_handles.empty())
-        throw s.error("/snap/pins", "mode \"pinned\" needs at least one handle to pin (this scene has none)");
-    }
-    if (pinned) {
-      if (it->contains("keep")) {
-        try {
-          s.snap.keep = parse_option<CleanupKeep>((*it)["keep"].get<std::string>());
-        } catch (const Error& e) {
-          throw s.error("/snap/keep", e.what());
-        }
-      }
-      s.snap.iterations = value_or(*it, "iterations", s.snap.iterations);
-      if (it->contains("pose_weight")) s.snap.pose_weight = value_or(*it, "pose_weight", 0.0);
+// The `ik` block `j`: chain, target, tolerance, iterations and the optional end orientation; throws on a
+// zero-length bone or a zero orientation.
+IkSpec make_ik(const Scene& s, const json& j) {
+  IkSpec ik;
+  const json& c = j["chain"];
+  ik.chain.resize(static_cast<Eigen::Index>(c.size()), 3);
+  for (std::size_t i = 0; i < c.size(); ++i)
+    ik.chain.row(static_cast<Eigen::Index>(i)) = vec3(c[i]).transpose();
+  for (Eigen::Index i = 0; i + 1 < ik.chain.rows(); ++i)
+    if (!((ik.chain.row(i + 1) - ik.chain.row(i)).norm() > 0.0))
+      throw s.error("/ik/chain/" + std::to_string(i + 1),
+                    "joint coincides with the previous joint (zero-length bone)");
+  ik.target = vec3(j["target"]);
+  ik.tolerance = value_or(j, "tolerance", 1e-4);
+  ik.iterations = value_or(j, "iterations", 50);
+  if (auto o = j.find("orientation"); o != j.end()) {
+    if (o->contains("quaternion")) {
+      const json& q = (*o)["quaternion"];
+      Eigen::Vector4d v(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>());
+      if (!(v.norm() > 0.0)) throw s.error("/ik/orientation/quaternion", "must be non-zero");
+      v.normalize();
+      ik.orientation = ga::Rot(v[0], v[1], v[2], v[3]);
+    } else {
+      const Eigen::Vector3d axis = vec3((*o)["axis"]);
+      if (!(axis.norm() > 0.0)) throw s.error("/ik/orientation/axis", "must be a non-zero vector");
+      ik.orientation = ga::rotor(axis, (*o)["degrees"].get<double>() * M_PI / 180.0);
     }
   }
+  return ik;
+}
 
-  // Outputs.
-  if (auto it = doc.find("output"); it != doc.end()) {
-    if (it->contains("mesh")) {
-      s.output.mesh = (*it)["mesh"].get<std::string>();
-      try {
-        mesh_format(*s.output.mesh);
-      } catch (const Error& e) {
-        throw s.error("/output/mesh", e.what());
-      }
+// Throws when the `snap` block `j` holds a key its mode (`mode`) does not take, or pin_threshold or
+// pin_margin without "pins": "weights".
+void check_snap_keys(const Scene& s, const json& j, SnapMode mode) {
+  const bool pins = j.contains("pins"), shape = mode == SnapMode::Shape, pinned = mode == SnapMode::Pinned;
+  if (!(mode == SnapMode::Free) && (j.contains("tradeoff") || j.contains("smooth_rho")))
+    throw s.error("/snap",
+                  "`tradeoff` and `smooth_rho` belong to mode \"free\"; mode \"shape\" takes `steps` and "
+                  "`area_constraint`, mode \"pinned\" takes `pins`, `keep`, `iterations` and `pose_weight`");
+  if (!shape && (j.contains("steps") || j.contains("area_constraint")))
+    throw s.error("/snap", "`steps` and `area_constraint` belong to mode \"shape\"");
+  if (!pinned && (pins || j.contains("keep") || j.contains("iterations") || j.contains("pose_weight")))
+    throw s.error("/snap", "`pins`, `keep`, `iterations` and `pose_weight` belong to mode \"pinned\"");
+  const bool weights = pins && j["pins"] == "weights";
+  for (const char* key : {"pin_threshold", "pin_margin"})
+    if (j.contains(key) && !weights)
+      throw s.error(std::string("/snap/") + key, "belongs to \"pins\": \"weights\"");
+}
+
+// Reads the pinned mode's keys of the `snap` block `j` into `snap`: the pins (the skin's rigid parts with
+// "pins": "weights", else handles: all of them or those named), keep, iterations and pose_weight. Throws
+// on weight pins without the skin deformer, an unknown handle name, no handle to pin or an unknown keep.
+void read_pinned_snap(const Scene& s, const json& j, SnapSpec& snap) {
+  const bool pins = j.contains("pins");
+  if (pins && j["pins"] == "weights") {
+    // Pins: the rigid parts of the skin's weights (found when the skin deformer binds, run.cpp).
+    if (s.deformer_type != "skin")
+      throw s.error("/snap/pins",
+                    "\"weights\" pins the rigid parts of a skin: the deformer must be \"skin\"");
+    snap.pin_weights = true;
+    snap.pin_threshold = value_or(j, "pin_threshold", snap.pin_threshold);
+    snap.pin_margin = value_or(j, "pin_margin", snap.pin_margin);
+  } else {
+    // Pins: "handles" (every handle's vertices) or a list of handle names.
+    const nlohmann::json p = pins ? j["pins"] : nlohmann::json("handles");
+    if (p.is_string()) {
+      for (std::size_t h = 0; h < s.handles.size(); ++h) snap.pin_handles.push_back(static_cast<int>(h));
+    } else {
+      for (std::size_t k = 0; k < p.size(); ++k)
+        snap.pin_handles.push_back(
+            s.handle_index(s.handle(p[k].get<std::string>(), "/snap/pins/" + std::to_string(k)).name));
     }
-    if (it->contains("metrics")) s.output.metrics = (*it)["metrics"].get<std::string>();
-    if (it->contains("colors")) {
-      s.output.colors = (*it)["colors"].get<std::string>();
-      if (s.output.colors->extension() != ".ply")
-        throw s.error("/output/colors", "the colour output is a .ply file");
+    if (snap.pin_handles.empty())
+      throw s.error("/snap/pins", "mode \"pinned\" needs at least one handle to pin (this scene has none)");
+  }
+  if (j.contains("keep")) {
+    try {
+      snap.keep = parse_option<CleanupKeep>(j["keep"].get<std::string>());
+    } catch (const Error& e) {
+      throw s.error("/snap/keep", e.what());
     }
   }
+  snap.iterations = value_or(j, "iterations", snap.iterations);
+  if (j.contains("pose_weight")) snap.pose_weight = value_or(j, "pose_weight", 0.0);
+}
+
+// The `snap` block `j` (its presence asks for the snap unless "enabled": false): the mode (pinned when
+// "pins" is given, else free, unless `mode` says), each mode's keys. Throws on an unknown mode and
+// through check_snap_keys and read_pinned_snap.
+SnapSpec make_snap(const Scene& s, const json& j) {
+  SnapSpec snap;
+  snap.enabled = value_or(j, "enabled", true);
+  snap.tradeoff = value_or(j, "tradeoff", 1.0);
+  snap.mode = j.contains("pins") ? SnapMode::Pinned : SnapMode::Free;
+  if (j.contains("mode")) {
+    try {
+      snap.mode = parse_option<SnapMode>(j["mode"].get<std::string>());
+    } catch (const Error& e) {
+      throw s.error("/snap/mode", e.what());
+    }
+  }
+  snap.smooth_rho = value_or(j, "smooth_rho", 0);
+  snap.steps = value_or(j, "steps", 4);
+  snap.area_constraint = value_or(j, "area_constraint", 0.0);
+  check_snap_keys(s, j, snap.mode);
+  if (snap.mode == SnapMode::Pinned) read_pinned_snap(s, j, snap);
+  return snap;
+}
+
+// The `output` block `j`: mesh, metrics and colour paths; throws on a mesh path of no known format or a
+// colour path that is not .ply.
+OutputSpec make_output(const Scene& s, const json& j) {
+  OutputSpec output;
+  if (j.contains("mesh")) {
+    output.mesh = j["mesh"].get<std::string>();
+    try {
+      mesh_format(*output.mesh);
+    } catch (const Error& e) {
+      throw s.error("/output/mesh", e.what());
+    }
+  }
+  if (j.contains("metrics")) output.metrics = j["metrics"].get<std::string>();
+  if (j.contains("colors")) {
+    output.colors = j["colors"].get<std::string>();
+    if (output.colors->extension() != ".ply")
+      throw s.error("/output/colors", "the colour output is a .ply file");
+  }
+  return output;
+}
+
+}  // namespace
+
+Scene parse_scene(const json& doc, const std::filesystem::path& dir, const std::string& name) {
+  Scene s;
+  s.dir = dir;
+  s.file = name;  // name() prints its filename
+  check_schema(s, doc);
+  s.doc = doc;
+  read_mesh_or_rig(s, doc);
+  read_handles(s, doc);
+  // Deformer block (its keys are read by the deformer type at bind).
+  s.deformer = doc["deformer"];
+  s.deformer_type = s.deformer["type"].get<std::string>();
+  read_frames(s, doc);
+  if (auto it = doc.find("ik"); it != doc.end()) s.ik = make_ik(s, *it);
+  if (auto it = doc.find("snap"); it != doc.end()) s.snap = make_snap(s, *it);
+  if (auto it = doc.find("output"); it != doc.end()) s.output = make_output(s, *it);
   return s;
 }
 

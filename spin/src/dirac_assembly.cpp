@@ -37,6 +37,15 @@ DiracAssembly::DiracAssembly(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
   if (m_ == 0) throw Error("DiracAssembly: the mesh has no faces");
   if (reduced_vertices.size() != static_cast<Eigen::Index>(reductions.size()))
     throw Error("DiracAssembly: one 4x2 reduction block is needed per reduced vertex");
+  init_face_geometry(V, F);
+  init_edges(F);
+  init_vertex_corners(F);
+  init_ordering(ordering);
+  init_unknowns(reduced_vertices, reductions);
+  init_neighbours();
+}
+
+void DiracAssembly::init_face_geometry(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
   area_ = spinmotor::face_areas(V, F);  // also checks indices and finiteness
   normal_.resize(m_, 3);
   edge_vec_.resize(m_, 9);
@@ -65,8 +74,9 @@ DiracAssembly::DiracAssembly(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
       s << "DiracAssembly: vertex " << i << " is in no face (remove unreferenced vertices first)";
       throw Error(s.str());
     }
+}
 
-  // Edges and their incident face corners.
+void DiracAssembly::init_edges(const Eigen::MatrixXi& F) {
   const EdgeTopology topo = edge_topology(F);
   E_ = topo.E;
   EF_offset_ = topo.EF_offset;
@@ -84,42 +94,45 @@ DiracAssembly::DiracAssembly(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
       EF_corner_[k] = c;
       EF_sign_[k] = a == E_(e, 0) ? 1 : -1;
     }
-  // Vertex → corners.
+}
+
+void DiracAssembly::init_vertex_corners(const Eigen::MatrixXi& F) {
   VF_offset_ = Eigen::VectorXi::Zero(n_ + 1);
   for (Eigen::Index f = 0; f < m_; ++f)
     for (int c = 0; c < 3; ++c) ++VF_offset_[F(f, c) + 1];
   for (Eigen::Index i = 0; i < n_; ++i) VF_offset_[i + 1] += VF_offset_[i];
   VF_corner_.resize(3 * m_);
-  {
-    std::vector<int> fillp(VF_offset_.data(), VF_offset_.data() + n_);
-    for (Eigen::Index f = 0; f < m_; ++f)
-      for (int c = 0; c < 3; ++c) VF_corner_[fillp[F(f, c)]++] = static_cast<int>(3 * f + c);
-  }
+  std::vector<int> fillp(VF_offset_.data(), VF_offset_.data() + n_);
+  for (Eigen::Index f = 0; f < m_; ++f)
+    for (int c = 0; c < 3; ++c) VF_corner_[fillp[F(f, c)]++] = static_cast<int>(3 * f + c);
+}
 
-  // Vertex ordering on the vertex graph (full symmetric pattern with the diagonal, CSC; the columns
-  // are short, so each is sorted by insertion).
-  {
-    std::vector<int> colptr(n_ + 1, 0);
-    for (Eigen::Index e = 0; e < ne; ++e) ++colptr[E_(e, 0) + 1], ++colptr[E_(e, 1) + 1];
-    for (Eigen::Index j = 0; j < n_; ++j) colptr[j + 1] += colptr[j] + 1;  // + the diagonal
-    std::vector<int> rowind(colptr[n_]), fillp(colptr.begin(), colptr.end() - 1);
-    for (Eigen::Index j = 0; j < n_; ++j) rowind[fillp[j]++] = static_cast<int>(j);
-    for (Eigen::Index e = 0; e < ne; ++e) {
-      rowind[fillp[E_(e, 0)]++] = E_(e, 1);
-      rowind[fillp[E_(e, 1)]++] = E_(e, 0);
-    }
-    for (Eigen::Index j = 0; j < n_; ++j) {
-      int* b = rowind.data() + colptr[j];
-      int* en = rowind.data() + colptr[j + 1];
-      for (int* a = b + 1; a < en; ++a)  // short columns: insertion sort
-        for (int* c = a; c > b && c[-1] > c[0]; --c) std::swap(c[-1], c[0]);
-    }
-    order_ = graph_ordering(n_, colptr, rowind, ordering, "DiracAssembly");
+void DiracAssembly::init_ordering(Ordering ordering) {
+  // The vertex graph: full symmetric pattern with the diagonal, CSC; the columns are short, so each is
+  // sorted by insertion.
+  const Eigen::Index ne = E_.rows();
+  std::vector<int> colptr(n_ + 1, 0);
+  for (Eigen::Index e = 0; e < ne; ++e) ++colptr[E_(e, 0) + 1], ++colptr[E_(e, 1) + 1];
+  for (Eigen::Index j = 0; j < n_; ++j) colptr[j + 1] += colptr[j] + 1;  // + the diagonal
+  std::vector<int> rowind(colptr[n_]), fillp(colptr.begin(), colptr.end() - 1);
+  for (Eigen::Index j = 0; j < n_; ++j) rowind[fillp[j]++] = static_cast<int>(j);
+  for (Eigen::Index e = 0; e < ne; ++e) {
+    rowind[fillp[E_(e, 0)]++] = E_(e, 1);
+    rowind[fillp[E_(e, 1)]++] = E_(e, 0);
   }
+  for (Eigen::Index j = 0; j < n_; ++j) {
+    int* b = rowind.data() + colptr[j];
+    int* en = rowind.data() + colptr[j + 1];
+    for (int* a = b + 1; a < en; ++a)  // short columns: insertion sort
+      for (int* c = a; c > b && c[-1] > c[0]; --c) std::swap(c[-1], c[0]);
+  }
+  order_ = graph_ordering(n_, colptr, rowind, ordering, "DiracAssembly");
   rank_.resize(n_);
   for (Eigen::Index k = 0; k < n_; ++k) rank_[order_[k]] = static_cast<int>(k);
+}
 
-  // Unknowns per vertex (new order).
+void DiracAssembly::init_unknowns(const Eigen::VectorXi& reduced_vertices,
+                                  const std::vector<Eigen::Matrix<double, 4, 2>>& reductions) {
   U_.assign(n_, Eigen::Matrix<double, 4, 2>::Zero());
   std::vector<int> dof(n_, 4);
   for (Eigen::Index r = 0; r < reduced_vertices.size(); ++r) {
@@ -140,33 +153,33 @@ DiracAssembly::DiracAssembly(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
   }
   dof_offset_.assign(n_ + 1, 0);
   for (Eigen::Index k = 0; k < n_; ++k) dof_offset_[k + 1] = dof_offset_[k] + dof[k];
+}
 
-  // Neighbours k > j in the new order.
+void DiracAssembly::init_neighbours() {
+  const Eigen::Index ne = E_.rows();
   nb_offset_ = Eigen::VectorXi::Zero(n_ + 1);
   for (Eigen::Index e = 0; e < ne; ++e) ++nb_offset_[std::min(rank_[E_(e, 0)], rank_[E_(e, 1)]) + 1];
   for (Eigen::Index j = 0; j < n_; ++j) nb_offset_[j + 1] += nb_offset_[j];
   nb_vertex_.resize(ne);
   nb_edge_.resize(ne);
   nb_e0_is_row_.resize(ne);
-  {
-    std::vector<int> fillp(nb_offset_.data(), nb_offset_.data() + n_);
-    for (Eigen::Index e = 0; e < ne; ++e) {
-      const int r0 = rank_[E_(e, 0)], r1 = rank_[E_(e, 1)];
-      const int j = std::min(r0, r1), k = std::max(r0, r1);
-      const int p = fillp[j]++;
-      nb_vertex_[p] = k;
-      nb_edge_[p] = static_cast<int>(e);
-      nb_e0_is_row_[p] = r0 == k;
-    }
-    // Sort each vertex's neighbours by new index (a handful each: insertion sort, no allocation).
-    for (Eigen::Index j = 0; j < n_; ++j)
-      for (int a = nb_offset_[j] + 1; a < nb_offset_[j + 1]; ++a)
-        for (int c = a; c > nb_offset_[j] && nb_vertex_[c - 1] > nb_vertex_[c]; --c) {
-          std::swap(nb_vertex_[c - 1], nb_vertex_[c]);
-          std::swap(nb_edge_[c - 1], nb_edge_[c]);
-          std::swap(nb_e0_is_row_[c - 1], nb_e0_is_row_[c]);
-        }
+  std::vector<int> fillp(nb_offset_.data(), nb_offset_.data() + n_);
+  for (Eigen::Index e = 0; e < ne; ++e) {
+    const int r0 = rank_[E_(e, 0)], r1 = rank_[E_(e, 1)];
+    const int j = std::min(r0, r1), k = std::max(r0, r1);
+    const int p = fillp[j]++;
+    nb_vertex_[p] = k;
+    nb_edge_[p] = static_cast<int>(e);
+    nb_e0_is_row_[p] = r0 == k;
   }
+  // Sort each vertex's neighbours by new index (a handful each: insertion sort, no allocation).
+  for (Eigen::Index j = 0; j < n_; ++j)
+    for (int a = nb_offset_[j] + 1; a < nb_offset_[j + 1]; ++a)
+      for (int c = a; c > nb_offset_[j] && nb_vertex_[c - 1] > nb_vertex_[c]; --c) {
+        std::swap(nb_vertex_[c - 1], nb_vertex_[c]);
+        std::swap(nb_edge_[c - 1], nb_edge_[c]);
+        std::swap(nb_e0_is_row_[c - 1], nb_e0_is_row_[c]);
+      }
 }
 
 const Eigen::SparseMatrix<double>& DiracAssembly::pattern() const {

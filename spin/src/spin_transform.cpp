@@ -165,6 +165,122 @@ struct SpinTransform::Impl {
     return Vn;
   }
 
+  // Throws unless rho holds one finite value per face.
+  void check_rho(const Eigen::VectorXd& rho) const {
+    const Eigen::Index m = F.rows();
+    if (rho.size() != m) {
+      std::ostringstream msg;
+      msg << "spin_transform: rho has " << rho.size() << " values for " << m << " faces";
+      throw Error(msg.str());
+    }
+    for (Eigen::Index f = 0; f < m; ++f)
+      if (!std::isfinite(rho[f])) {
+        std::ostringstream msg;
+        msg << "spin_transform: rho of face " << f << " is not finite (" << rho[f] << ")";
+        throw Error(msg.str());
+      }
+  }
+
+  // Assembles the eigen matrix K (and G for eq. 6, `gen`) of rho into K/G or Kc/Gc; returns the
+  // diagonal shift σ to factor with: 1e-8 times the mean diagonal, 0 for eq. 6. Throws (Numerical) when
+  // an entry is not finite.
+  //
+  // The relative shift of the diagonal keeps the constants (the kernel when ρ = 0) from making K
+  // singular; it does not change the eigenvectors of eqs. 7 and (unweighted), only the convergence
+  // ratio (θ1 + σ)/(θ2 + σ). Not for eq. 6, whose eigenvectors it would change; there A*A is
+  // nonsingular for ρ ≢ 0, and for ρ ≡ 0 the constants are returned without factoring.
+  double assemble(const Eigen::VectorXd& rho, bool gen) {
+    if (complex) {
+      as->normal_matrix(rho, scale, Kc);
+      if (gen) as->mixed_matrix(rho, scale, Gc);
+    } else {
+      as->normal_matrix(rho, scale, K);
+      if (gen) as->mixed_matrix(rho, scale, G);
+    }
+    // A numerical failure on valid input, not a bad matrix handed to the solver (BadInput).
+    if (!(complex ? values_finite(Kc) && (!gen || values_finite(Gc))
+                  : values_finite(K) && (!gen || values_finite(G))))
+      throw numerical_error(
+          "spin_transform: the eigen matrix is not finite (rho too large: its squares overflow)");
+    const double dmean = complex ? mean_diagonal(Kc) : mean_diagonal(K);
+    return gen ? 0.0 : 1e-8 * dmean;
+  }
+
+  // Shifts the diagonal of K (Kc) by sigma and factors it; if roundoff still makes a pivot
+  // non-positive the shift is raised 100-fold (at most twice; never for eq. 6, `gen`). Returns the
+  // shift on the diagonal; rethrows the last failure.
+  double factorize(double sigma, bool gen) {
+    double applied = 0;  // shift already on the diagonal
+    for (int attempt = 0;; ++attempt) {
+      try {
+        if (complex) {
+          shift_diagonal(Kc, sigma - applied);
+          applied = sigma;
+          cchol.factorize(Kc);
+        } else {
+          shift_diagonal(K, sigma - applied);
+          applied = sigma;
+          chol.factorize(K);
+        }
+        return sigma;
+      } catch (const Error& e) {
+        if (gen || attempt == 2 || e.kind() != Error::Kind::Numerical) throw;
+        sigma *= 100.0;
+      }
+    }
+  }
+
+  // Inverse iteration on the factored K (shift sigma; eq. 6 with G when `gen`) from the all-ones start:
+  // sets res.lambda (n×4, not yet normalised), res.residual and res.iterations; returns the eigenvalue.
+  double inverse_iteration(bool gen, double sigma, SpinTransformResult& res) {
+    const SmallestEigenpairOptions eo{.tolerance = opt.tolerance,
+                                      .iterations = opt.iterations,
+                                      .fixed_iterations = opt.fixed_iterations,
+                                      .krylov = opt.krylov,
+                                      .who = "spin_transform"};
+    SmallestEigenpair r;
+    if (complex) {
+      Eigen::VectorXcd x = cstart;
+      const SolveFunction<std::complex<double>> solve = [&](const Eigen::VectorXcd& b) -> Eigen::VectorXcd {
+        return cchol.solve(b);
+      };
+      r = smallest_eigenpair<std::complex<double>>(Kc, gen ? &Gc : nullptr, solve, sigma, eo, x);
+      res.lambda = as->expand(x, scale);
+    } else {
+      Eigen::VectorXd x = start;
+      const SolveFunction<double> solve = [&](const Eigen::VectorXd& b) -> Eigen::VectorXd {
+        return chol.solve(b);
+      };
+      r = smallest_eigenpair<double>(K, gen ? &G : nullptr, solve, sigma, eo, x);
+      res.lambda = as->expand(x, scale);
+    }
+    res.residual = r.residual, res.iterations = r.iterations;
+    return r.eigenvalue;
+  }
+
+  // Turns the n×4 field lambda by the unit quaternion that makes Σ_i x_i real positive.
+  //
+  // Eigenspaces are quaternionic lines (λq solves whatever λ solves), and λ ↦ λq turns the result by a
+  // rotation. Pick the q that makes Σ_i x_i real positive (x = S⁻¹λ the unknowns): this is what inverse
+  // iteration from the all-ones real start converges to, and it leaves the mean rotation of the unknowns
+  // at zero.
+  void fix_gauge(Eigen::MatrixXd& lambda) const {
+    const Eigen::Index n = V.rows();
+    ga::Quat sum(0.0, 0.0, 0.0, 0.0);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double wi = scale.size() ? 1.0 / scale[i] : 1.0;
+      sum += wi * ga::Quat(lambda(i, 0), lambda(i, 1), lambda(i, 2), lambda(i, 3));
+    }
+    const double ns = std::sqrt(ga::norm2(sum));
+    if (ns > 0) {
+      const ga::Quat q = ga::conj(sum) / ns;
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const ga::Quat l = ga::Quat(lambda(i, 0), lambda(i, 1), lambda(i, 2), lambda(i, 3)) * q;
+        lambda.row(i) = l.coeffs().transpose();
+      }
+    }
+  }
+
   explicit Impl(const SpinTransformOptions& o)
       : opt(o),
         chol({.ordering = CholeskySolver::Ordering::Natural, .supernodal = o.supernodal}),
@@ -301,66 +417,22 @@ SpinTransformResult SpinTransform::solve_similarity(const Eigen::VectorXd& rho) 
 SpinTransformResult SpinTransform::solve_impl(const Eigen::VectorXd& rho, bool reconstruct_positions) {
   Impl& s = *impl_;
   const SpinTransformOptions& o = s.opt;
-  const Eigen::Index n = s.V.rows(), m = s.F.rows();
-  if (rho.size() != m) {
-    std::ostringstream msg;
-    msg << "spin_transform: rho has " << rho.size() << " values for " << m << " faces";
-    throw Error(msg.str());
-  }
-  for (Eigen::Index f = 0; f < m; ++f)
-    if (!std::isfinite(rho[f])) {
-      std::ostringstream msg;
-      msg << "spin_transform: rho of face " << f << " is not finite (" << rho[f] << ")";
-      throw Error(msg.str());
-    }
+  const Eigen::Index n = s.V.rows();
+  s.check_rho(rho);
   SpinTransformResult res;
   res.timings.bind = s.bind_ms;
   const bool rho_zero = (rho.array() == 0.0).all();
-
-  // Assembly, with a relative shift of the diagonal so that the constants (the kernel when ρ = 0) do
-  // not make K singular; the shift does not change the eigenvectors of eqs. 7 and (unweighted), only
-  // the convergence ratio (θ1 + σ)/(θ2 + σ). If roundoff still makes a pivot non-positive the shift is
-  // raised 100-fold (at most twice). Not for eq. 6, whose eigenvectors it would change; there A*A is
-  // nonsingular for ρ ≢ 0, and for ρ ≡ 0 the constants are returned without factoring.
   const bool gen = o.problem == SpinEigenProblem::Generalized;
   const bool skip = gen && rho_zero;
+
+  // Assembly, with a relative shift of the diagonal (Impl::assemble).
   auto t = Clock::now();
-  if (s.complex) {
-    s.as->normal_matrix(rho, s.scale, s.Kc);
-    if (gen) s.as->mixed_matrix(rho, s.scale, s.Gc);
-  } else {
-    s.as->normal_matrix(rho, s.scale, s.K);
-    if (gen) s.as->mixed_matrix(rho, s.scale, s.G);
-  }
-  // A numerical failure on valid input, not a bad matrix handed to the solver (BadInput).
-  if (!(s.complex ? values_finite(s.Kc) && (!gen || values_finite(s.Gc))
-                  : values_finite(s.K) && (!gen || values_finite(s.G))))
-    throw numerical_error(
-        "spin_transform: the eigen matrix is not finite (rho too large: its squares overflow)");
-  const double dmean = s.complex ? mean_diagonal(s.Kc) : mean_diagonal(s.K);
-  double sigma = gen ? 0.0 : 1e-8 * dmean;
+  double sigma = s.assemble(rho, gen);
   res.timings.assembly = ms_since(t);
 
   // Factorization.
   t = Clock::now();
-  double applied = 0;  // shift already on the diagonal
-  for (int attempt = 0; !skip; ++attempt) {
-    try {
-      if (s.complex) {
-        shift_diagonal(s.Kc, sigma - applied);
-        applied = sigma;
-        s.cchol.factorize(s.Kc);
-      } else {
-        shift_diagonal(s.K, sigma - applied);
-        applied = sigma;
-        s.chol.factorize(s.K);
-      }
-      break;
-    } catch (const Error& e) {
-      if (gen || attempt == 2 || e.kind() != Error::Kind::Numerical) throw;
-      sigma *= 100.0;
-    }
-  }
+  if (!skip) sigma = s.factorize(sigma, gen);
   res.timings.factor = ms_since(t);
 
   // Inverse iteration.
@@ -371,51 +443,11 @@ SpinTransformResult SpinTransform::solve_impl(const Eigen::VectorXd& rho, bool r
     res.lambda = Eigen::MatrixXd::Zero(n, 4);
     res.lambda.col(0).setOnes();
   } else {
-    const SmallestEigenpairOptions eo{.tolerance = o.tolerance,
-                                      .iterations = o.iterations,
-                                      .fixed_iterations = o.fixed_iterations,
-                                      .krylov = o.krylov,
-                                      .who = "spin_transform"};
-    SmallestEigenpair r;
-    if (s.complex) {
-      Eigen::VectorXcd x = s.cstart;
-      const SolveFunction<std::complex<double>> solve = [&](const Eigen::VectorXcd& b) -> Eigen::VectorXcd {
-        return s.cchol.solve(b);
-      };
-      r = smallest_eigenpair<std::complex<double>>(s.Kc, gen ? &s.Gc : nullptr, solve, sigma, eo, x);
-      res.lambda = s.as->expand(x, s.scale);
-    } else {
-      Eigen::VectorXd x = s.start;
-      const SolveFunction<double> solve = [&](const Eigen::VectorXd& b) -> Eigen::VectorXd {
-        return s.chol.solve(b);
-      };
-      r = smallest_eigenpair<double>(s.K, gen ? &s.G : nullptr, solve, sigma, eo, x);
-      res.lambda = s.as->expand(x, s.scale);
-    }
-    theta = r.eigenvalue, res.residual = r.residual, res.iterations = r.iterations;
+    theta = s.inverse_iteration(gen, sigma, res);
   }
   if (o.problem == SpinEigenProblem::Standard) theta /= s.scale_c * s.scale_c;  // γ of A*Aλ = γ M_V λ
   res.eigenvalue = theta;
-  if (!s.as->has_reductions()) {
-    // Gauge. Eigenspaces are quaternionic lines (λq solves whatever λ solves), and λ ↦ λq turns the
-    // result by a rotation. Pick the q that makes Σ_i x_i real positive (x = S⁻¹λ the unknowns):
-    // this is what inverse iteration from the all-ones real start converges to, and it leaves the
-    // mean rotation of the unknowns at zero.
-    ga::Quat sum(0.0, 0.0, 0.0, 0.0);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const double w = s.scale.size() ? 1.0 / s.scale[i] : 1.0;
-      sum += w * ga::Quat(res.lambda(i, 0), res.lambda(i, 1), res.lambda(i, 2), res.lambda(i, 3));
-    }
-    const double ns = std::sqrt(ga::norm2(sum));
-    if (ns > 0) {
-      const ga::Quat q = ga::conj(sum) / ns;
-      for (Eigen::Index i = 0; i < n; ++i) {
-        const ga::Quat l =
-            ga::Quat(res.lambda(i, 0), res.lambda(i, 1), res.lambda(i, 2), res.lambda(i, 3)) * q;
-        res.lambda.row(i) = l.coeffs().transpose();
-      }
-    }
-  }
+  if (!s.as->has_reductions()) s.fix_gauge(res.lambda);
   res.lambda /= res.lambda.norm();
   if (!res.lambda.allFinite()) throw numerical_error("spin_transform: the eigenvector is not finite");
   res.timings.eigen = ms_since(t);

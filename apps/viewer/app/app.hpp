@@ -1,6 +1,6 @@
 #pragma once
-// spinmotor-viewer's pieces shared by the window (window.cpp) and the headless screenshot mode
-// (headless.cpp): the command line, and the steps both drive through the same code.
+// spinmotor-viewer's pieces shared by the window (window.cpp, window_input.cpp, window_panels.cpp) and the
+// headless screenshot mode (headless.cpp): the command line, and the steps both drive through the same code.
 #include <Eigen/Core>
 #include <chrono>
 #include <string>

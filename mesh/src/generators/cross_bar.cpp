@@ -6,90 +6,120 @@
 
 namespace spinmotor {
 
-Mesh cross_bar(double length, double half_span, double width, int segments) {
-  const char* who = "cross_bar";
-  using detail::require;
-  require(length > 0.0 && std::isfinite(length), who, "length must be positive and finite");
-  require(half_span > 0.0 && std::isfinite(half_span), who, "half_span must be positive and finite");
-  require(width > 0.0 && width < 2.0 * half_span, who, "width must be in (0, 2·half_span)");
-  require(segments >= 1, who, "segments must be >= 1 (got " + std::to_string(segments) + ")");
-  const double a = half_span, w2 = 0.5 * width, h = length / segments;
-  const double nw_d = std::max(1.0, std::round(width / h)), na_d = std::max(1.0, std::round((a - w2) / h));
-  require(nw_d < 1e5 && na_d < 1e5, who, "the section resolution length/segments is too fine");
-  const int nw = static_cast<int>(nw_d), na = static_cast<int>(na_d);
+namespace {
 
-  // The section lives on an (N+1)² lattice of nodes; cell (i, j) belongs to the "+" if it lies in
-  // the horizontal or the vertical arm.
-  const int N = 2 * na + nw, M = na, P = na + nw;
-  std::vector<double> X(N + 1);
-  for (int i = 0; i <= N; ++i)
-    X[i] = i <= M   ? -a + (a - w2) * i / na
-           : i <= P ? -w2 + width * (i - M) / nw
-                    : w2 + (a - w2) * (i - P) / na;
-  auto inside = [&](int i, int j) {
+/// The "+" section on an (N+1)² lattice of nodes (node (i, j) is i + j (N+1)): cell (i, j) belongs to
+/// the "+" if it lies in the horizontal or the vertical arm, cells [M, P) across.
+struct CrossSection {
+  int N = 0, M = 0, P = 0;
+  std::vector<double> X;                    ///< node coordinate along x and along y
+  std::vector<std::array<int, 2>> outline;  ///< boundary nodes, CCW seen from +z
+  std::vector<double> arc;                  ///< arc length along the outline, arc[L] = perimeter
+  std::vector<int> on_outline;              ///< per node: its outline position, or -1
+  std::vector<int> interior;                ///< per node: its interior cap vertex, or -1
+  int n_int = 0;                            ///< interior cap vertices per cap
+  int cells = 0;                            ///< cells of the "+"
+
+  int L() const { return static_cast<int>(outline.size()); }
+  /// Whether cell (i, j) is in the "+" (false off the lattice).
+  bool inside(int i, int j) const {
     return i >= 0 && j >= 0 && i < N && j < N && ((i >= M && i < P) || (j >= M && j < P));
-  };
-  // Outline, CCW seen from +z: the twelve corners of the "+" walked in unit lattice steps.
+  }
+};
+
+/// The outline of the "+" on the lattice of `c`: its twelve corners walked in unit lattice steps, CCW
+/// seen from +z.
+std::vector<std::array<int, 2>> walk_outline(const CrossSection& c) {
+  const int N = c.N, M = c.M, P = c.P;
   const std::array<std::array<int, 2>, 12> corner{
       {{N, M}, {N, P}, {P, P}, {P, N}, {M, N}, {M, P}, {0, P}, {0, M}, {M, M}, {M, 0}, {P, 0}, {P, M}}};
   std::vector<std::array<int, 2>> outline;
-  for (int c = 0; c < 12; ++c) {
-    auto [i, j] = corner[c];
-    const auto [ti, tj] = corner[(c + 1) % 12];
+  for (int k = 0; k < 12; ++k) {
+    auto [i, j] = corner[k];
+    const auto [ti, tj] = corner[(k + 1) % 12];
     while (i != ti || j != tj) {
       outline.push_back({i, j});
       i += (ti > i) - (ti < i);
       j += (tj > j) - (tj < j);
     }
   }
-  const int L = static_cast<int>(outline.size());
-  std::vector<double> arc(L + 1, 0.0);  // arc length along the outline, arc[L] = perimeter
+  return outline;
+}
+
+/// The section of arm half-span a and width `width`, each arm na cells long and nw cells wide: lattice,
+/// outline with its arc length, and the numbering of the nodes on the outline and inside the caps.
+CrossSection cross_section(double a, double width, int na, int nw) {
+  const double w2 = 0.5 * width;
+  CrossSection c;
+  c.N = 2 * na + nw, c.M = na, c.P = na + nw;
+  const int N = c.N, M = c.M, P = c.P;
+  c.X.resize(N + 1);
+  for (int i = 0; i <= N; ++i)
+    c.X[i] = i <= M   ? -a + (a - w2) * i / na
+             : i <= P ? -w2 + width * (i - M) / nw
+                      : w2 + (a - w2) * (i - P) / na;
+  c.outline = walk_outline(c);
+  const int L = c.L();
+  c.arc.assign(L + 1, 0.0);
   for (int o = 0; o < L; ++o) {
-    const auto& p = outline[o];
-    const auto& q = outline[(o + 1) % L];
-    arc[o + 1] = arc[o] + std::hypot(X[q[0]] - X[p[0]], X[q[1]] - X[p[1]]);
+    const auto& p = c.outline[o];
+    const auto& q = c.outline[(o + 1) % L];
+    c.arc[o + 1] = c.arc[o] + std::hypot(c.X[q[0]] - c.X[p[0]], c.X[q[1]] - c.X[p[1]]);
   }
   // Lattice node → outline position or interior cap vertex.
-  const int K = segments + 1;  // rings along z
-  std::vector<int> on_outline((N + 1) * (N + 1), -1), interior((N + 1) * (N + 1), -1);
-  for (int o = 0; o < L; ++o) on_outline[outline[o][0] + outline[o][1] * (N + 1)] = o;
-  int n_int = 0;
+  c.on_outline.assign((N + 1) * (N + 1), -1);
+  c.interior.assign((N + 1) * (N + 1), -1);
+  for (int o = 0; o < L; ++o) c.on_outline[c.outline[o][0] + c.outline[o][1] * (N + 1)] = o;
   for (int j = 0; j <= N; ++j)
     for (int i = 0; i <= N; ++i)
-      if (inside(i, j) && inside(i - 1, j) && inside(i, j - 1) && inside(i - 1, j - 1))
-        interior[i + j * (N + 1)] = n_int++;
-  int cells = 0;
+      if (c.inside(i, j) && c.inside(i - 1, j) && c.inside(i, j - 1) && c.inside(i - 1, j - 1))
+        c.interior[i + j * (N + 1)] = c.n_int++;
   for (int j = 0; j < N; ++j)
-    for (int i = 0; i < N; ++i) cells += inside(i, j);
-  detail::check_face_count(who, 2 * std::int64_t{segments} * L + 4 * std::int64_t{cells});
+    for (int i = 0; i < N; ++i) c.cells += c.inside(i, j);
+  return c;
+}
 
-  Mesh m;
-  const int nv = K * L + 2 * n_int;
-  m.V.resize(nv, 3);
+/// m.V: segments + 1 rings of the outline along z in [0, length], then the interior vertices of the
+/// bottom and of the top cap.
+void cross_bar_positions(const CrossSection& c, double length, int segments, Mesh& m) {
+  const int N = c.N, L = c.L(), K = segments + 1;
+  m.V.resize(K * L + 2 * c.n_int, 3);
   for (int k = 0; k < K; ++k)
     for (int o = 0; o < L; ++o)
-      m.V.row(k * L + o) << X[outline[o][0]], X[outline[o][1]], length * k / segments;
+      m.V.row(k * L + o) << c.X[c.outline[o][0]], c.X[c.outline[o][1]], length * k / segments;
   for (int j = 0; j <= N; ++j)
     for (int i = 0; i <= N; ++i)
-      if (const int t = interior[i + j * (N + 1)]; t >= 0) {
-        m.V.row(K * L + t) << X[i], X[j], 0.0;
-        m.V.row(K * L + n_int + t) << X[i], X[j], length;
+      if (const int t = c.interior[i + j * (N + 1)]; t >= 0) {
+        m.V.row(K * L + t) << c.X[i], c.X[j], 0.0;
+        m.V.row(K * L + c.n_int + t) << c.X[i], c.X[j], length;
       }
-  // Isometric atlas: side walls [0, perimeter] × [0, length], caps (2a)² to their right.
-  const double gap = 0.1 * a, W = arc[L] + gap + 2 * a, H = std::max(length, 4 * a + gap);
-  const double s = 1.0 / std::max(W, H), u0 = (arc[L] + gap) * s, v1 = (2 * a + gap) * s;
+}
+
+/// m.UV, an isometric atlas: side walls [0, perimeter] × [0, length] (K (L+1) coordinates), the caps
+/// (2a)² to their right, indexed by lattice node (unused ones stay zero), all scaled into [0, 1]².
+void cross_bar_uvs(const CrossSection& c, double a, double length, int segments, Mesh& m) {
+  const int N = c.N, L = c.L(), K = segments + 1;
+  const std::vector<double>& X = c.X;
+  const double gap = 0.1 * a, W = c.arc[L] + gap + 2 * a, H = std::max(length, 4 * a + gap);
+  const double s = 1.0 / std::max(W, H), u0 = (c.arc[L] + gap) * s, v1 = (2 * a + gap) * s;
   const int nuv_side = K * (L + 1), nodes = (N + 1) * (N + 1);
   m.UV.resize(nuv_side + 2 * nodes, 2);  // cap UVs indexed by lattice node (unused ones stay zero)
   m.UV.setZero();
   for (int k = 0; k < K; ++k)
-    for (int o = 0; o <= L; ++o) m.UV.row(k * (L + 1) + o) << arc[o] * s, length * k / segments * s;
+    for (int o = 0; o <= L; ++o) m.UV.row(k * (L + 1) + o) << c.arc[o] * s, length * k / segments * s;
   for (int j = 0; j <= N; ++j)
     for (int i = 0; i <= N; ++i) {
       m.UV.row(nuv_side + i + j * (N + 1)) << u0 + (a - X[i]) * s, (X[j] + a) * s;  // bottom, mirrored
       m.UV.row(nuv_side + nodes + i + j * (N + 1)) << u0 + (X[i] + a) * s, v1 + (X[j] + a) * s;
     }
+}
 
-  const int nf = 2 * segments * L + 4 * cells;
+/// m.F and m.FUV: two triangles per side-wall quad, then two per cell of the bottom and the top cap,
+/// all CCW seen from outside.
+void cross_bar_faces(const CrossSection& c, int segments, Mesh& m) {
+  const int N = c.N, L = c.L(), K = segments + 1;
+  const int nuv_side = K * (L + 1), nodes = (N + 1) * (N + 1);
+  const int nf = 2 * segments * L + 4 * c.cells;
   m.F.resize(nf, 3);
   m.FUV.resize(nf, 3);
   int f = 0;
@@ -106,13 +136,13 @@ Mesh cross_bar(double length, double half_span, double width, int segments) {
     }
   auto cap_vertex = [&](int i, int j, bool top) {
     const int node = i + j * (N + 1);
-    if (on_outline[node] >= 0) return (top ? segments * L : 0) + on_outline[node];
-    return K * L + (top ? n_int : 0) + interior[node];
+    if (c.on_outline[node] >= 0) return (top ? segments * L : 0) + c.on_outline[node];
+    return K * L + (top ? c.n_int : 0) + c.interior[node];
   };
   for (int top = 0; top < 2; ++top)
     for (int j = 0; j < N; ++j)
       for (int i = 0; i < N; ++i) {
-        if (!inside(i, j)) continue;
+        if (!c.inside(i, j)) continue;
         const int p00 = cap_vertex(i, j, top), p10 = cap_vertex(i + 1, j, top);
         const int p11 = cap_vertex(i + 1, j + 1, top), p01 = cap_vertex(i, j + 1, top);
         const int t0 = nuv_side + top * nodes + i + j * (N + 1);
@@ -129,6 +159,27 @@ Mesh cross_bar(double length, double half_span, double width, int segments) {
           m.FUV.row(f++) << t00, t01, t11;
         }
       }
+}
+
+}  // namespace
+
+Mesh cross_bar(double length, double half_span, double width, int segments) {
+  const char* who = "cross_bar";
+  using detail::require;
+  require(length > 0.0 && std::isfinite(length), who, "length must be positive and finite");
+  require(half_span > 0.0 && std::isfinite(half_span), who, "half_span must be positive and finite");
+  require(width > 0.0 && width < 2.0 * half_span, who, "width must be in (0, 2·half_span)");
+  require(segments >= 1, who, "segments must be >= 1 (got " + std::to_string(segments) + ")");
+  const double a = half_span, w2 = 0.5 * width, h = length / segments;
+  const double nw_d = std::max(1.0, std::round(width / h)), na_d = std::max(1.0, std::round((a - w2) / h));
+  require(nw_d < 1e5 && na_d < 1e5, who, "the section resolution length/segments is too fine");
+  const int nw = static_cast<int>(nw_d), na = static_cast<int>(na_d);
+  const CrossSection c = cross_section(a, width, na, nw);
+  detail::check_face_count(who, 2 * std::int64_t{segments} * c.L() + 4 * std::int64_t{c.cells});
+  Mesh m;
+  cross_bar_positions(c, length, segments, m);
+  cross_bar_uvs(c, a, length, segments, m);
+  cross_bar_faces(c, segments, m);
   return m;
 }
 

@@ -39,8 +39,35 @@ class JsonSchema {
 
  private:
   struct Issue;
+  /// Appends the issues of `x` (at JSON Pointer `path`) against schema `s` to `out`, in the order of
+  /// the phases below; a type, const or enum mismatch ends the check of `x`.
   void check(const nlohmann::json& s, const nlohmann::json& x, const std::string& path,
              std::vector<Issue>& out) const;
+  /// "type" (and the int range of "integer"): appends the mismatch to `out`; false if there was one.
+  static bool check_type(const nlohmann::json& s, const nlohmann::json& x, const std::string& path,
+                         std::vector<Issue>& out);
+  /// "const" and "enum": appends the mismatch to `out`; false if there was one.
+  static bool check_constant(const nlohmann::json& s, const nlohmann::json& x, const std::string& path,
+                             std::vector<Issue>& out);
+  /// The bounds of a number (minimum, maximum, exclusiveMinimum, exclusiveMaximum) or a string
+  /// (minLength): appends each bound `x` breaks to `out`.
+  static void check_bounds(const nlohmann::json& s, const nlohmann::json& x, const std::string& path,
+                           std::vector<Issue>& out);
+  /// The array `x`: minItems, maxItems, then each element against "items"; issues appended to `out`.
+  void check_array(const nlohmann::json& s, const nlohmann::json& x, const std::string& path,
+                   std::vector<Issue>& out) const;
+  /// The object `x`: missing "required" keys, then each key against "properties" or
+  /// "additionalProperties"; issues appended to `out`.
+  void check_object(const nlohmann::json& s, const nlohmann::json& x, const std::string& path,
+                    std::vector<Issue>& out) const;
+  /// "oneOf" and "anyOf": checks `x` against each alternative; appends "matches more than one
+  /// alternative" (oneOf) or, when none matches, what report_alternatives finds to `out`.
+  void check_combinators(const nlohmann::json& s, const nlohmann::json& x, const std::string& path,
+                         std::vector<Issue>& out) const;
+  /// No alternative matches `x`: appends to `out` the issues of the most plausible alternative `alt[i]`,
+  /// or one merged message when no alternative has the right type or all reject the same constant.
+  static void report_alternatives(const nlohmann::json& x, const std::string& path,
+                                  const std::vector<std::vector<Issue>>& alt, std::vector<Issue>& out);
   const nlohmann::json& resolve(const std::string& ref) const;
   void lint(const nlohmann::json& s, const std::string& where) const;
 

@@ -101,6 +101,22 @@ class DiracAssembly {
 
  private:
   using RowQuats = Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>;
+  /// Sets area_, normal_, edge_vec_ and vertex_area_ from V and F; throws on a bad index, a non-finite
+  /// position, a degenerate face or a vertex in no face.
+  void init_face_geometry(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
+  /// Sets the edges E_ of F and their incident faces, corners and signs (EF_offset_, EF_face_,
+  /// EF_corner_, EF_sign_).
+  void init_edges(const Eigen::MatrixXi& F);
+  /// Sets the vertex → corner lists VF_offset_, VF_corner_ of F.
+  void init_vertex_corners(const Eigen::MatrixXi& F);
+  /// Sets order_ and rank_: `ordering` applied to the vertex graph of E_.
+  void init_ordering(Ordering ordering);
+  /// Sets U_, dof_offset_ and reduced_: 2 unknowns (reductions[r]) for reduced_vertices[r], 4 for every
+  /// other vertex, in the new order; throws on an index out of range or listed twice.
+  void init_unknowns(const Eigen::VectorXi& reduced_vertices,
+                     const std::vector<Eigen::Matrix<double, 4, 2>>& reductions);
+  /// Sets the neighbour lists nb_offset_, nb_vertex_, nb_edge_, nb_e0_is_row_ from E_ and rank_.
+  void init_neighbours();
   void normal_entries(const Eigen::VectorXd& rho, Eigen::VectorXd& diag, RowQuats& edge_q) const;
   void mixed_entries(const Eigen::VectorXd& rho, Eigen::VectorXd& diag, RowQuats& edge_q) const;
   void fill_complex(const Eigen::VectorXd& scale, const Eigen::VectorXd& diag, const RowQuats& edge_q,
