@@ -99,12 +99,11 @@ pid_t first_child(pid_t pid) {
   return in >> child ? static_cast<pid_t>(child) : 0;
 }
 
-/// True once `pid` catches `sig` (SigCgt of /proc/PID/status).
-bool catches(pid_t pid, int sig) {
-  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
-  for (std::string line; std::getline(in, line);)
-    if (line.rfind("SigCgt:", 0) == 0) return (std::stoull(line.substr(7), nullptr, 16) >> (sig - 1)) & 1;
-  return false;
+/// True once the batch `pid` is in its run loop (its InterruptGuard catches SIGTERM) and `child`, the
+/// command it runs, takes SIGTERM on its signal thread (its main thread blocks it: take_stop_signals).
+bool both_ready(pid_t batch, pid_t child) {
+  return spinmotor_test::signal_mask_has(batch, "SigCgt:", SIGTERM) &&
+         spinmotor_test::signal_mask_has(child, "SigBlk:", SIGTERM);
 }
 
 }  // namespace
@@ -125,8 +124,7 @@ TEST_CASE("batch stopped by SIGTERM: the running command is stopped too, exit 14
   const pid_t batch = spinmotor_test::spawn(argv, dir / "stdout.txt", dir / "stderr.txt");
   const auto t0 = std::chrono::steady_clock::now();
   pid_t child = 0;
-  while (!((child = first_child(batch)) && catches(batch, SIGTERM) && catches(child, SIGTERM)) &&
-         !spinmotor_test::has_exited(batch) &&
+  while (!((child = first_child(batch)) && both_ready(batch, child)) && !spinmotor_test::has_exited(batch) &&
          std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   REQUIRE(child != 0);

@@ -89,6 +89,17 @@ inline bool has_exited(pid_t pid) {
   return waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT) == 0 && info.si_pid == pid;
 }
 
+/// Whether signal `sig` is in the mask `field` ("SigCgt:" caught, "SigBlk:" blocked by the main thread)
+/// of /proc/PID/status. A spinmotor program is ready to stop cleanly once its main thread blocks the
+/// stop signals (take_stop_signals: its signal thread takes them); its InterruptGuard shows in SigCgt.
+inline bool signal_mask_has(pid_t pid, const char* field, int sig) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  const std::string key = field;
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind(key, 0) == 0) return (std::stoull(line.substr(key.size()), nullptr, 16) >> (sig - 1)) & 1;
+  return false;
+}
+
 /// A scratch directory named after the process (ctest runs every test case in its own process).
 struct TempDir {
   std::filesystem::path path;
