@@ -141,4 +141,47 @@ TEST_CASE("batch stopped by SIGTERM: the running command is stopped too, exit 14
   for (const auto& e : fs::directory_iterator(dir / "out")) CHECK(e.path().filename() == "logs");
 }
 
+TEST_CASE("batch --grace: a command still running after the grace period is killed, said so, exit 143",
+          "[cli][batch][interrupt]") {
+  spinmotor_test::TempDir tmp;
+  const fs::path& dir = tmp.path;
+  fs::create_directories(dir / "in");
+  for (const char* name : {"a.obj", "b.obj"})
+    spinmotor::write_mesh(dir / "in" / name, spinmotor::icosphere(3));
+  std::vector<std::string> argv = {SPINMOTOR_CLI, "batch",
+                                   "-j",          "1",
+                                   "--grace",     "0.5",
+                                   "--out-dir",   (dir / "out").string(),
+                                   "--run",       "flow {in} --willmore 0.01 --steps 1000000 --out {out}"};
+  for (const char* name : {"a.obj", "b.obj"}) argv.push_back((dir / "in" / name).string());
+  const pid_t batch = spinmotor_test::spawn(argv, dir / "stdout.txt", dir / "stderr.txt");
+  const auto t0 = std::chrono::steady_clock::now();
+  pid_t child = 0;
+  while (!((child = first_child(batch)) && both_ready(batch, child)) && !spinmotor_test::has_exited(batch) &&
+         std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  REQUIRE(child != 0);
+  // A command that does not stop on the signal: stopped (SIGSTOP), it cannot act on SIGTERM. What it
+  // had in flight: a temporary of its output, named as AtomicFile names them.
+  REQUIRE(::kill(child, SIGSTOP) == 0);
+  const fs::path temporary = dir / "out" / (".a.obj." + std::to_string(child) + ".0.1.tmp");
+  std::ofstream(temporary) << "v 0 0 0\n";
+  const auto signalled = std::chrono::steady_clock::now();
+  REQUIRE(::kill(batch, SIGTERM) == 0);
+  const int code = spinmotor_test::wait_exit(batch);
+  const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
+  const std::string err = slurp(dir / "stderr.txt"), out = slurp(dir / "stdout.txt");
+  INFO(err << out);
+  CHECK(code == 143);
+  CHECK(waited >= 0.5);  // the grace period first
+  CHECK(waited < 2.5);   // then the kill, at once
+  CHECK_THAT(out,
+             Catch::Contains("0 interrupted, 1 killed (still running 0.5 s after the signal), 1 not run"));
+  CHECK_THAT(out, Catch::Contains("killed (exit 137): " + (dir / "in" / "a.obj").string()));
+  CHECK_THAT(err, Catch::Contains("interrupted by SIGTERM: batch stopped with 0 of 2 outputs written (1 "
+                                  "command killed, still running 0.5 s after the signal)"));
+  CHECK(::kill(child, 0) != 0);  // killed and reaped
+  for (const auto& e : fs::directory_iterator(dir / "out")) CHECK(e.path().filename() == "logs");
+}
+
 }  // namespace test_cli_batch
