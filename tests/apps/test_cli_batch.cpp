@@ -130,7 +130,7 @@ TEST_CASE("batch stopped by SIGTERM: the running command is stopped too, exit 14
   REQUIRE(child != 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(100));  // a few steps in
   REQUIRE(::kill(batch, SIGTERM) == 0);                         // the batch alone, as a scheduler does
-  const int code = spinmotor_test::wait_exit(batch);
+  const int code = spinmotor_test::wait_exit_within(batch, 60);
   const std::string err = slurp(dir / "stderr.txt");
   INFO(err << slurp(dir / "stdout.txt"));
   CHECK(code == 143);
@@ -168,7 +168,7 @@ TEST_CASE("batch --grace: a command still running after the grace period is kill
   std::ofstream(temporary) << "v 0 0 0\n";
   const auto signalled = std::chrono::steady_clock::now();
   REQUIRE(::kill(batch, SIGTERM) == 0);
-  const int code = spinmotor_test::wait_exit(batch);
+  const int code = spinmotor_test::wait_exit_within(batch, 60);
   const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
   const std::string err = slurp(dir / "stderr.txt"), out = slurp(dir / "stdout.txt");
   INFO(err << out);

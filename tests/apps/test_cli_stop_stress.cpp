@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -87,10 +88,12 @@ std::vector<fs::path> temporaries(const fs::path& dir) {
 /// whether a signal ended it, and the seconds from the signal to the exit.
 struct Stop {
   bool finished_first = false;  // the run had ended before the moment came (not a try)
-  int status = -1;
+  int status = -1;              // -1: still running 10 s after the signal, then killed (SIGKILL)
   bool by_signal = false;
   double seconds = 0;
 };
+
+constexpr double kGiveUp = 10;  // seconds: a run still going then is killed, so it cannot outlive the test
 
 /// Starts `argv` with stdout and stderr in dir, waits until ready(pid) (at most 60 s), then `delay`
 /// seconds, sends `sig` and waits for the exit.
@@ -107,12 +110,16 @@ Stop stop_at(const std::vector<std::string>& argv, const fs::path& dir, double d
   s.finished_first = spinmotor_test::has_exited(pid);
   const auto signalled = Clock::now();
   if (!s.finished_first) ::kill(pid, sig);
+  while (!spinmotor_test::has_exited(pid) && seconds_since(signalled) < kGiveUp)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  s.seconds = seconds_since(signalled);
+  const bool hung = !spinmotor_test::has_exited(pid);
+  if (hung) ::kill(pid, SIGKILL);
   int raw = 0;
   while (waitpid(pid, &raw, 0) < 0 && errno == EINTR) {
   }
-  s.seconds = seconds_since(signalled);
-  s.by_signal = WIFSIGNALED(raw);
-  s.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : WIFSIGNALED(raw) ? 128 + WTERMSIG(raw) : -1;
+  s.by_signal = !hung && WIFSIGNALED(raw);
+  s.status = hung ? -1 : WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
   return s;
 }
 
@@ -155,7 +162,7 @@ std::vector<double> one_shot_moments(const std::vector<std::string>& argv, const
                                      const fs::path& out, int count) {
   const pid_t pid = spinmotor_test::spawn(argv, dir / "stdout.txt", dir / "stderr.txt");
   const auto t0 = Clock::now();
-  REQUIRE(spinmotor_test::wait_exit(pid) == 0);
+  REQUIRE(spinmotor_test::wait_exit_within(pid, 120) == 0);
   const double T = seconds_since(t0);
   REQUIRE(fs::exists(out));
   fs::remove(out);
