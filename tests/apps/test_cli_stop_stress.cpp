@@ -7,7 +7,7 @@
 // signal while it binds), the frames on disk complete; batch exits with 128 + signal once its commands
 // have stopped, with no output. Each case prints its counts. SPINMOTOR_STOP_STRESS=quick (CI's
 // sanitizer run, CMakePresets.json) tries 4 moments per command (deform: 4 in its bind, 4 in its
-// frames) and the 10k mesh for spin and snap.
+// frames) and smaller meshes for spin, snap and deform.
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -245,8 +245,9 @@ TEST_CASE("stop stress: snap stopped at many moments ends by the signal within 2
 TEST_CASE("stop stress: deform stopped at many moments exits 128 + signal within 2 s, frames complete",
           "[cli][interrupt][stress]") {
   TempDir tmp;
-  // A 9,602-vertex capsule, its tip bending back and forth over 2000 frames, each frame snapped: the
-  // bind orders with METIS, the frames solve.
+  // A 9,602-vertex capsule (2,402 when quick: a frame must take well under 2 s in the sanitizer build
+  // too), its tip bending back and forth over 2000 frames, each frame snapped: the bind orders with
+  // METIS, the frames solve.
   nlohmann::json doc = nlohmann::json::parse(R"({
     "mesh": {"generate": "capsule", "radius": 0.5, "length": 3, "rings": 100, "sides": 96},
     "handles": [{"name": "base", "select": {"box": {"min": [-1, -1, -1], "max": [1, 1, -0.2]}}},
@@ -254,6 +255,7 @@ TEST_CASE("stop stress: deform stopped at many moments exits 128 + signal within
     "deformer": {"type": "surface-harmonic"},
     "snap": {"enabled": true},
     "output": {"mesh": "out/c.obj"}})");
+  if (quick()) doc["mesh"]["rings"] = 50, doc["mesh"]["sides"] = 48;
   for (int k = 0; k < 2000; ++k) {
     nlohmann::json tip = nlohmann::json::parse(R"({"rotate": {"axis": [1, 0, 0], "about": [0, 0, 3]}})");
     tip["rotate"]["degrees"] = 30.0 * (k % 20) / 20;
