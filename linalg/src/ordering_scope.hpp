@@ -6,8 +6,9 @@
 // handlers put back exactly afterwards and a pending signal delivered then), and makes the threads this
 // library runs block them too, so that none of them can take a stop signal into METIS's handler
 // meanwhile: OpenBLAS's idle workers are joined (use_single_threaded_blas: they start again, with
-// their starter's mask, at the next threaded call) and, once per calling thread, the workers of its
-// OpenMP team block them. A program under take_stop_signals() blocks them in every thread already.
+// their starter's mask, at the next threaded call; not when the user has set OPENBLAS_NUM_THREADS) and,
+// once per calling thread, the workers of its OpenMP team block them. A program under
+// take_stop_signals() blocks them in every thread already (and joins OpenBLAS's load-time workers).
 #include "spinmotor/core/interrupt.hpp"
 
 namespace spinmotor::detail {

@@ -37,9 +37,9 @@
 // its handler is the process's: DeferStopSignals alone is safe only when no other thread can take the
 // signal. The project's own threads block them (block_stop_signals_on_this_thread), linalg makes the
 // workers of the calling thread's OpenMP team block them too and joins OpenBLAS's idle workers before
-// it orders; a program with threads of its own calls take_stop_signals(), as the `spinmotor` tool and
-// the viewer do. No handler of a dependency can take a stop signal then, wherever the run is and
-// whichever thread is in METIS.
+// it orders (unless the user set OPENBLAS_NUM_THREADS); a program with threads of its own calls
+// take_stop_signals(), as the `spinmotor` tool and the viewer do. No handler of a dependency can take a
+// stop signal then, wherever the run is and whichever thread is in METIS.
 #include <memory>
 #include <string>
 
