@@ -99,10 +99,21 @@ pid_t first_child(pid_t pid) {
   return in >> child ? static_cast<pid_t>(child) : 0;
 }
 
+/// argv[1] of process `pid` (from /proc), or "".
+std::string subcommand(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/cmdline");
+  std::string arg;
+  std::getline(in, arg, '\0');
+  std::getline(in, arg, '\0');
+  return in ? arg : std::string();
+}
+
 /// True once the batch `pid` is in its run loop (its InterruptGuard catches SIGTERM) and `child`, the
 /// command it runs, takes SIGTERM on its signal thread (its main thread blocks it: take_stop_signals).
+/// The child must be `flow` already: between posix_spawn's fork and its exec the child is a copy of the
+/// batch with every signal blocked, and the batch waits in posix_spawn until it has exec'ed.
 bool both_ready(pid_t batch, pid_t child) {
-  return spinmotor_test::signal_mask_has(batch, "SigCgt:", SIGTERM) &&
+  return spinmotor_test::signal_mask_has(batch, "SigCgt:", SIGTERM) && subcommand(child) == "flow" &&
          spinmotor_test::signal_mask_has(child, "SigBlk:", SIGTERM);
 }
 
