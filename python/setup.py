@@ -4,7 +4,10 @@ a C++20 compiler and the Debian packages of the C++ library plus pybind11-dev.
 
 Environment:
   SPINMOTOR_BUILD_DIR   CMake build directory to use (reused between installs; default:
-                        python/build/cmake-<python tag>)
+                        python/build/cmake-<python tag>). A new one is configured for the module
+                        alone (no tests, examples, benchmarks, viewer, renderer); one that exists keeps
+                        its options and only gets SPINMOTOR_PYTHON=ON, so README's build (which has
+                        the module already) installs it without building anything again
   SPINMOTOR_CMAKE_ARGS  extra CMake arguments, e.g. "-DCMAKE_CXX_COMPILER_LAUNCHER=ccache
                         -DSPINMOTOR_NATIVE=OFF" (-march=native is on by default: build on the machine
                         that runs it, or turn it off for a portable module)
@@ -30,15 +33,18 @@ class CMakeBuild(build_ext):
             raise RuntimeError(f"spinmotor: the C++ project is expected at {ROOT} (python/ inside the repository)")
         tag = sysconfig.get_config_var("SOABI") or "py"
         build = os.environ.get("SPINMOTOR_BUILD_DIR") or os.path.join(HERE, "build", f"cmake-{tag}")
+        fresh = not os.path.exists(os.path.join(build, "CMakeCache.txt"))
         os.makedirs(build, exist_ok=True)
-        generator = ["-G", "Ninja"] if shutil.which("ninja") else []
-        args = [
-            "cmake", "-S", ROOT, "-B", build, *generator,
+        generator = ["-G", "Ninja"] if shutil.which("ninja") and fresh else []
+        module_only = [
             "-DCMAKE_BUILD_TYPE=Release",
-            "-DSPINMOTOR_PYTHON=ON",
-            f"-DPython3_EXECUTABLE={sys.executable}",
             "-DSPINMOTOR_BUILD_TESTS=OFF", "-DSPINMOTOR_BUILD_EXAMPLES=OFF",
             "-DSPINMOTOR_BUILD_BENCHMARKS=OFF", "-DSPINMOTOR_BUILD_VIEWER=OFF", "-DSPINMOTOR_BUILD_RENDER=OFF",
+        ] if fresh else []
+        args = [
+            "cmake", "-S", ROOT, "-B", build, *generator, *module_only,
+            "-DSPINMOTOR_PYTHON=ON",
+            f"-DPython3_EXECUTABLE={sys.executable}",
             *shlex.split(os.environ.get("SPINMOTOR_CMAKE_ARGS", "")),
         ]
         subprocess.check_call(args)

@@ -1,7 +1,7 @@
 // `spinmotor batch`: run one subcommand over many meshes, one process per mesh, N at a time, resumable.
 //
 //   spinmotor batch --run "SUBCOMMAND ARGS" --out-dir DIR [--jobs N] [--suffix .obj] [--list FILE]
-//       [--json] [-q] MESH...
+//       [--grace SECONDS] [--json] [-q] MESH...
 // ARGS contain {in} and {out} ({stem} is the input's file stem); --run is split into words like a
 // shell would (quotes and backslashes; no expansion).
 //
@@ -11,9 +11,11 @@
 // skipped, and a batch that was interrupted (or killed by a scheduler) resumes where it stopped by
 // running the same command again. One failing mesh does not stop the others; the exit code is the
 // worst one of the runs (0 all ok, 2 a bad input, 3 a numerical failure). Progress lines with elapsed
-// time and ETA go to stderr unless -q. SIGINT or SIGTERM (to the batch alone or to its process group)
-// stops it: nothing more is started, the running commands get the signal and remove their temporary
-// files, the summary counts the interrupted and the not-run inputs, and the exit code is 128 + signal.
+// time and ETA go to stderr unless -q. SIGINT, SIGTERM or SIGHUP (to the batch alone or to its process
+// group) stops it: nothing more is started, the running commands get the signal and remove their
+// temporary files; a command still running --grace seconds later (default 10) is killed (SIGKILL) and
+// its temporary of {out} removed by the batch; the summary counts the interrupted, killed and not-run
+// inputs, and the exit code is 128 + signal.
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
@@ -30,6 +32,7 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -48,6 +51,7 @@ using Clock = std::chrono::steady_clock;
 
 struct BatchArgs {
   int jobs = 2;
+  double grace = 10;  // seconds a command has to stop after a stop signal is passed on
   std::string out_dir, suffix = ".obj", list, run;
   std::vector<std::string> inputs;
   bool json = false, quiet = false;
@@ -55,7 +59,7 @@ struct BatchArgs {
 
 struct Job {
   fs::path input, output, log;
-  std::string status = "pending";  // pending, skipped, ok, failed
+  std::string status = "pending";  // pending, skipped, ok, failed, interrupted, killed
   int exit_code = 0;
   double seconds = 0;
 };
@@ -115,15 +119,38 @@ pid_t spawn(const std::string& exe, const std::vector<std::string>& args, const 
   posix_spawn_file_actions_init(&fa);
   posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&fa, STDOUT_FILENO, STDERR_FILENO);
+  // The command starts with the stop signals unblocked: the batch blocks them in every thread
+  // (take_stop_signals, main.cpp), and a signal mask is inherited.
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  sigset_t mask;
+  pthread_sigmask(SIG_BLOCK, nullptr, &mask);
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigdelset(&mask, sig);
+  posix_spawnattr_setsigmask(&attr, &mask);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK);
   std::vector<char*> argv;
   argv.push_back(const_cast<char*>(exe.c_str()));
   for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
   pid_t pid = -1;
-  const int rc = posix_spawn(&pid, exe.c_str(), &fa, nullptr, argv.data(), environ);
+  const int rc = posix_spawn(&pid, exe.c_str(), &fa, &attr, argv.data(), environ);
+  posix_spawnattr_destroy(&attr);
   posix_spawn_file_actions_destroy(&fa);
   if (rc != 0) throw numerical_error("batch: cannot start " + exe + ": " + std::strerror(rc));
   return pid;
+}
+
+/// Removes what the command of process `pid` left of its AtomicFile temporaries of `output`
+/// (".<name>.<pid>.<counter>.<random>.tmp" next to it, core/atomic_file.cpp): a killed command cannot.
+void remove_temporaries(const fs::path& output, pid_t pid) {
+  const std::string prefix = "." + output.filename().string() + "." + std::to_string(pid) + ".";
+  const fs::path dir = output.parent_path().empty() ? fs::path(".") : output.parent_path();
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(prefix, 0) == 0 && name.size() > 4 && name.compare(name.size() - 4, 4, ".tmp") == 0)
+      fs::remove(e.path(), ec);
+  }
 }
 
 std::string duration(double s) {
@@ -135,8 +162,24 @@ std::string duration(double s) {
   return b;
 }
 
-void run(const BatchArgs& a) {
-  // ---- inputs and the command template ---------------------------------------------------------
+/// The command template, checked: words, {in} and {out} present, not batch itself.
+std::vector<std::string> command_words(const BatchArgs& a) {
+  const std::vector<std::string> command = split_words(a.run);
+  if (command.empty())
+    throw Error("batch: --run is empty (e.g. --run \"spin {in} --rho-expr 0.5*z --out {out}\")");
+  if (command[0] == "batch") throw Error("batch: the command cannot be batch itself");
+  bool has_in = false, has_out = false;
+  for (const std::string& s : command) {
+    has_in = has_in || s.find("{in}") != std::string::npos;
+    has_out = has_out || s.find("{out}") != std::string::npos;
+  }
+  if (!has_in || !has_out)
+    throw Error("batch: the command must contain {in} and {out} (the input mesh and the output path)");
+  return command;
+}
+
+/// One job per input (MESH... then the --list file), skipped where the output exists.
+std::vector<Job> collect_jobs(const BatchArgs& a, const fs::path& out_dir, const fs::path& logs) {
   std::vector<std::string> inputs = a.inputs;
   if (!a.list.empty()) {
     std::ifstream in(a.list);
@@ -149,20 +192,6 @@ void run(const BatchArgs& a) {
     }
   }
   if (inputs.empty()) throw Error("batch: no input meshes (give MESH... or --list FILE)");
-  const std::vector<std::string> command = split_words(a.run);
-  if (command.empty())
-    throw Error("batch: --run is empty (e.g. --run \"spin {in} --rho-expr 0.5*z --out {out}\")");
-  if (command[0] == "batch") throw Error("batch: the command cannot be batch itself");
-  bool has_in = false, has_out = false;
-  for (const std::string& s : command) {
-    has_in = has_in || s.find("{in}") != std::string::npos;
-    has_out = has_out || s.find("{out}") != std::string::npos;
-  }
-  if (!has_in || !has_out)
-    throw Error("batch: the command must contain {in} and {out} (the input mesh and the output path)");
-
-  const fs::path out_dir = a.out_dir, logs = out_dir / "logs";
-  fs::create_directories(logs);
   std::vector<Job> jobs;
   std::map<std::string, std::string> stems;
   for (const std::string& in : inputs) {
@@ -178,10 +207,23 @@ void run(const BatchArgs& a) {
     if (fs::exists(j.output)) j.status = "skipped";  // atomic outputs: existing means complete
     jobs.push_back(std::move(j));
   }
+  return jobs;
+}
 
-  // ---- run, N at a time ------------------------------------------------------------------------
+/// Runs the pending jobs, a.jobs at a time, until all have ended or a stop signal has ended the
+/// running ones. SIGINT / SIGTERM / SIGHUP: launch nothing more, pass the signal on to the running
+/// commands (a Ctrl-C in a terminal reaches them too; a scheduler's SIGTERM may reach the batch alone),
+/// wait for them (each removes its temporaries and stops within a second or two), and kill the ones
+/// still running a.grace seconds after the signal (SIGKILL; the batch then removes their temporaries
+/// of {out}). Running the same command again resumes.
+void run_jobs(const BatchArgs& a, const std::vector<std::string>& command, std::vector<Job>& jobs) {
   const std::string exe = self_path();
-  std::map<pid_t, std::pair<std::size_t, Clock::time_point>> running;
+  struct Running {
+    std::size_t job;
+    Clock::time_point start;
+    bool killed = false;
+  };
+  std::map<pid_t, Running> running;
   const auto t0 = Clock::now();
   std::size_t next = 0, done = 0, todo = 0;
   for (const Job& j : jobs) todo += j.status == "pending";
@@ -194,17 +236,16 @@ void run(const BatchArgs& a) {
               << " (" << duration(j.seconds) << ", exit " << j.exit_code << "); elapsed " << duration(elapsed)
               << (done < todo ? ", ETA " + duration(eta) : std::string()) << '\n';
   };
-  // SIGINT / SIGTERM: launch nothing more, pass the signal on to the running commands (a Ctrl-C in a
-  // terminal reaches them too; a scheduler's SIGTERM may reach the batch alone), wait for them (each
-  // removes its temporaries: remove_temporary_files_on_signal), report, exit 128 + signal. Running the
-  // same command again resumes.
   const InterruptGuard guard;
-  bool forwarded = false;
+  std::optional<Clock::time_point> forwarded;
   while (true) {
     if (const int sig = interrupted(); sig && !forwarded) {
-      for (const auto& [pid, job] : running) ::kill(pid, sig);
-      forwarded = true;
+      for (const auto& [pid, r] : running) ::kill(pid, sig);
+      forwarded = Clock::now();
     }
+    if (forwarded && Clock::now() - *forwarded > std::chrono::duration<double>(a.grace))
+      for (auto& [pid, r] : running)
+        if (!r.killed) ::kill(pid, SIGKILL), r.killed = true;
     while (!interrupted() && static_cast<int>(running.size()) < std::max(1, a.jobs) && next < jobs.size()) {
       Job& j = jobs[next];
       if (j.status == "pending") {
@@ -224,16 +265,23 @@ void run(const BatchArgs& a) {
     }
     auto it = running.find(pid);
     if (it == running.end()) continue;
-    Job& j = jobs[it->second.first];
-    j.seconds = std::chrono::duration<double>(Clock::now() - it->second.second).count();
+    Job& j = jobs[it->second.job];
+    j.seconds = std::chrono::duration<double>(Clock::now() - it->second.start).count();
     j.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    j.status = j.exit_code == 0 ? "ok" : interrupted() ? "interrupted" : "failed";
+    j.status = j.exit_code == 0    ? "ok"
+               : it->second.killed ? "killed"
+               : interrupted()     ? "interrupted"
+                                   : "failed";
+    if (it->second.killed) remove_temporaries(j.output, pid);
     running.erase(it);
     ++done;
     report_progress(j);
   }
+}
 
-  // ---- summary -----------------------------------------------------------------------------------
+/// Prints the summary (text, or JSON with --json) and throws what the exit code says: Interrupted
+/// after a stop signal, Error for the worst failure.
+void report(const BatchArgs& a, const std::vector<Job>& jobs, const fs::path& logs, double total) {
   int worst = 0;
   std::map<std::string, int> counts;
   nlohmann::json runs = nlohmann::json::array();
@@ -247,13 +295,15 @@ void run(const BatchArgs& a) {
                     {"seconds", j.seconds},
                     {"log", j.log.string()}});
   }
-  const double total = std::chrono::duration<double>(Clock::now() - t0).count();
+  const int killed = counts["killed"];
+  const std::string grace = duration(a.grace);
   if (a.json) {
     std::cout << nlohmann::json{{"inputs", jobs.size()},
                                 {"ok", counts["ok"]},
                                 {"skipped", counts["skipped"]},
                                 {"failed", counts["failed"]},
                                 {"interrupted", counts["interrupted"]},
+                                {"killed", killed},
                                 {"not_run", counts["pending"]},
                                 {"seconds", total},
                                 {"runs", runs}}
@@ -263,23 +313,39 @@ void run(const BatchArgs& a) {
     std::cout << "batch: " << jobs.size() << " inputs: " << counts["ok"] << " ok, " << counts["skipped"]
               << " skipped (output exists), " << counts["failed"] << " failed"
               << (interrupted() ? ", " + std::to_string(counts["interrupted"]) + " interrupted, " +
+                                      (killed ? std::to_string(killed) + " killed (still running " + grace +
+                                                    " after the signal), "
+                                              : std::string()) +
                                       std::to_string(counts["pending"]) + " not run"
                                 : std::string())
               << ", in " << duration(total) << '\n';
     for (const Job& j : jobs)
-      if (j.status == "failed")
-        std::cout << "  failed (exit " << j.exit_code << "): " << j.input.string() << ", see "
+      if (j.status == "failed" || j.status == "killed")
+        std::cout << "  " << j.status << " (exit " << j.exit_code << "): " << j.input.string() << ", see "
                   << j.log.string() << '\n';
   }
   if (const int sig = interrupted())
-    throw Interrupted(sig, "batch stopped with " + std::to_string(counts["ok"]) + " of " +
-                               std::to_string(jobs.size()) +
-                               " outputs written; run the same command again "
-                               "to resume");
+    throw Interrupted(
+        sig, "batch stopped with " + std::to_string(counts["ok"]) + " of " + std::to_string(jobs.size()) +
+                 " outputs written" +
+                 (killed ? " (" + std::to_string(killed) + (killed == 1 ? " command" : " commands") +
+                               " killed, still running " + grace + " after the signal)"
+                         : std::string()) +
+                 "; run the same command again to resume");
   if (worst != 0)
     throw Error("batch: " + std::to_string(counts["failed"]) + " of " + std::to_string(jobs.size()) +
                     " runs failed (logs in " + logs.string() + ")",
                 worst == 2 ? Error::Kind::BadInput : Error::Kind::Numerical);
+}
+
+void run(const BatchArgs& a) {
+  const std::vector<std::string> command = command_words(a);
+  const fs::path out_dir = a.out_dir, logs = out_dir / "logs";
+  std::vector<Job> jobs = collect_jobs(a, out_dir, logs);
+  fs::create_directories(logs);
+  const auto t0 = Clock::now();
+  run_jobs(a, command, jobs);
+  report(a, jobs, logs, std::chrono::duration<double>(Clock::now() - t0).count());
 }
 
 const RegisterCommand register_batch{
@@ -295,6 +361,11 @@ const RegisterCommand register_batch{
       sub.add_option("-j,--jobs", a->jobs, "Processes at a time")
           ->capture_default_str()
           ->check(CLI::Range(1, 1024));
+      sub.add_option("--grace", a->grace,
+                     "After a stop signal (SIGINT, SIGTERM, SIGHUP), seconds a running command has to stop "
+                     "before it is killed (SIGKILL)")
+          ->capture_default_str()
+          ->check(CLI::Range(0.0, 86400.0));
       sub.add_flag("--json", a->json, "Print a JSON summary");
       sub.add_flag("-q,--quiet", a->quiet, "No progress lines and no summary (the exit code remains)");
       sub.footer(

@@ -1,7 +1,7 @@
 // `spinmotor deform SCENE.json`: run a scene file (docs/scene.md) — load and validate it, bind its deformer,
 // pose every frame, write the outputs atomically, print a summary.
 // Exit codes (main.cpp): 0 ok, 2 bad scene (the message names the JSON path), 3 numerical failure,
-// 130 / 143 stopped by SIGINT / SIGTERM (the frames before the signal are complete on disk).
+// 129 / 130 / 143 stopped by SIGHUP / SIGINT / SIGTERM (the frames before the signal are complete on disk).
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -66,7 +66,7 @@ void print_frame(const spinmotor::scene::Scene& scene, std::size_t f,
 }
 
 // Frame by frame: each frame is computed, written and printed before the next one, so memory stays that
-// of one frame for any number of frames. A signal (SIGINT, SIGTERM) stops the run between two frames:
+// of one frame for any number of frames. A signal (SIGINT, SIGTERM, SIGHUP) stops the run between two frames:
 // the frames before it are complete on disk (every output of each), the summary and the --json array
 // cover exactly those frames, and the command throws cli::Interrupted (exit 128 + signal). An error
 // removes every output of this run (FrameWriter), as if nothing had been written.
@@ -143,9 +143,9 @@ const spinmotor::cli::RegisterCommand register_deform{
           "  spinmotor deform pose.json --out-dir results --json     # outputs under results/, metrics on "
           "stdout\n"
           "  spinmotor deform --schema > scene.schema.json           # the scene format (JSON Schema)\n"
-          "Frames are written one by one. SIGINT (Ctrl+C) or SIGTERM stops an animation after the frame in\n"
-          "progress: the frames written are complete, exit code 130 or 143 (2 bad scene, 3 numerical\n"
-          "failure: then no output of the run is left).");
+          "Frames are written one by one. SIGINT (Ctrl+C), SIGTERM or SIGHUP stops an animation after the\n"
+          "frame in progress: the frames written are complete, exit code 128 + signal (130, 143, 129; 2 bad\n"
+          "scene, 3 numerical failure: then no output of the run is left).");
       sub.callback([a] { run(*a); });
     }};
 

@@ -2,7 +2,8 @@
 // Subcommand registry of the `spinmotor` tool. Each cmd_<name>.cpp defines one subcommand and
 // registers it with a static `RegisterCommand`; main.cpp only parses and maps errors to exit codes:
 //   0 ok, 2 bad input (spinmotor::Error::Kind::BadInput, or a usage error), 3 numerical failure,
-//   128 + signal (130 SIGINT, 143 SIGTERM) for a long run stopped between frames (Interrupted).
+//   128 + signal (130 SIGINT, 143 SIGTERM, 129 SIGHUP) for a long run stopped between frames (Interrupted);
+//   any other command stopped by one of them ends by the signal (a shell reports 128 + signal too).
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <stdexcept>

@@ -7,6 +7,7 @@
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/core/interrupt.hpp"
 #include "spinmotor/core/memory_budget.hpp"
+#include "spinmotor/linalg/blas_threads.hpp"
 
 namespace spinmotor::cli {
 std::vector<Command>& commands() {
@@ -17,7 +18,10 @@ std::vector<Command>& commands() {
 
 int main(int argc, char** argv) {
   using namespace spinmotor;
-  remove_temporary_files_on_signal();  // a Ctrl-C while writing leaves no temporary behind
+  // SIGINT, SIGTERM, SIGHUP: taken by a thread of their own, never by a dependency's handler (METIS
+  // traps SIGTERM while it orders); a stop while writing leaves no temporary behind (interrupt.hpp).
+  take_stop_signals();
+  join_idle_blas_workers();  // OpenBLAS's workers from load time: they start again blocking them too
   CLI::App app{"spinmotor: deform triangle meshes with CGA motors and snap edits onto spin transformations"};
   app.set_version_flag("--version", std::string("spinmotor ") + SPINMOTOR_VERSION);
   app.require_subcommand(1);

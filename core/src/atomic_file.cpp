@@ -12,6 +12,7 @@
 #include <system_error>
 
 #include "spinmotor/core/error.hpp"
+#include "temporaries.hpp"
 
 namespace spinmotor {
 namespace fs = std::filesystem;
@@ -71,13 +72,17 @@ void untrack_temporary(int slot) {
 }
 
 extern "C" void remove_temporaries_and_reraise(int sig) {
-  for (TempSlot& t : g_slots)
-    if (t.state.load() == 2) ::unlink(t.path);  // async-signal-safe
+  detail::remove_temporaries_in_flight();
   ::signal(sig, SIG_DFL);
   ::raise(sig);
 }
 
 }  // namespace
+
+void detail::remove_temporaries_in_flight() noexcept {
+  for (TempSlot& t : g_slots)
+    if (t.state.load() == 2) ::unlink(t.path);  // async-signal-safe
+}
 
 void remove_temporary_files_on_signal() {
   struct sigaction sa = {};

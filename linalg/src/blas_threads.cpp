@@ -56,6 +56,10 @@ bool use_single_threaded_blas() {
   return openblas;
 }
 
+void join_idle_blas_workers() {
+  if (const Shutdown stop = openblas_shutdown(); stop && g_calls.load() == 0) stop();
+}
+
 ScopedBlasThreads::ScopedBlasThreads(int threads) {
   if (const SetThreads set = managed_setter(); set && threads > 1) {
     set(threads);

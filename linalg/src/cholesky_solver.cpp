@@ -14,9 +14,11 @@
 #include <type_traits>
 #include <vector>
 
+#include "ordering_scope.hpp"
 #include "solver_detail.hpp"
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/core/huge_pages.hpp"
+#include "spinmotor/core/interrupt.hpp"
 #include "spinmotor/core/memory_budget.hpp"
 #include "spinmotor/linalg/blas_threads.hpp"
 #include "spinmotor/linalg/serial_openmp.hpp"
@@ -247,12 +249,19 @@ void BasicCholeskySolver<Scalar>::analyze(const SparseMatrix& A) {
   }();
   m.stype = m.used != Ordering::Natural && stored_in_full(A) ? 1 : -1;
   cholmod_sparse s = Impl::view(A, m.stype);
-  m.L = cholmod_analyze(&s, &m.common);
+  {
+    const detail::OrderingScope ordering;  // METIS traps SIGTERM (ordering_scope.hpp)
+    m.L = cholmod_analyze(&s, &m.common);
+  }
   if (!m.L) m.check_status("analyze"), throw numerical_error(std::string(kWho) + ": CHOLMOD analyze failed");
   if (m.options.try_natural && m.used != Ordering::Natural) {
     const double fl = m.common.fl, lnz = m.common.lnz;
     m.common.method[0].ordering = CHOLMOD_NATURAL;
-    cholmod_factor* natural = cholmod_analyze(&s, &m.common);
+    cholmod_factor* natural = nullptr;
+    {
+      const detail::OrderingScope ordering;
+      natural = cholmod_analyze(&s, &m.common);
+    }
     if (!natural)
       m.check_status("analyze"), throw numerical_error(std::string(kWho) + ": CHOLMOD analyze failed");
     if (m.common.fl < fl) {
@@ -398,7 +407,11 @@ typename BasicCholeskySolver<Scalar>::Matrix BasicCholeskySolver<Scalar>::solve(
     std::vector<std::thread> threads;
     Eigen::Index t = 1;
     try {
-      for (; t < blocks; ++t) threads.emplace_back(block, t);
+      for (; t < blocks; ++t)
+        threads.emplace_back([&block, t] {
+          block_stop_signals_on_this_thread();  // stop signals are the application's (core/interrupt.hpp)
+          block(t);
+        });
     } catch (const std::system_error&) {  // no thread to be had: the rest of the blocks here
     }
     for (Eigen::Index u = t; u < blocks; ++u) block(u);

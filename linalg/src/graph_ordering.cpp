@@ -5,6 +5,7 @@
 #include <numeric>
 #include <string>
 
+#include "ordering_scope.hpp"
 #include "spinmotor/core/error.hpp"
 
 namespace spinmotor {
@@ -36,8 +37,12 @@ Eigen::VectorXi graph_ordering(Eigen::Index n, std::span<int> colptr, std::span<
   A.dtype = CHOLMOD_DOUBLE;
   A.sorted = 1;
   A.packed = 1;
-  const int ok = ordering == Ordering::AMD ? cholmod_amd(&A, nullptr, 0, perm.data(), &c)
-                                           : cholmod_metis(&A, nullptr, 0, 1, perm.data(), &c);
+  int ok = 0;
+  {
+    const detail::OrderingScope scope;  // METIS traps SIGTERM (ordering_scope.hpp)
+    ok = ordering == Ordering::AMD ? cholmod_amd(&A, nullptr, 0, perm.data(), &c)
+                                   : cholmod_metis(&A, nullptr, 0, 1, perm.data(), &c);
+  }
   cholmod_finish(&c);
   if (!ok) throw numerical_error(std::string(who) + ": CHOLMOD could not order the graph");
   return perm;

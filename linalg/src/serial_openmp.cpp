@@ -50,6 +50,11 @@ extern "C" void GOMP_parallel(void (*fn)(void*), void* data, unsigned num_thread
   using Parallel = void (*)(void (*)(void*), void*, unsigned, unsigned);
   static const Parallel next = [] {
     auto* f = reinterpret_cast<Parallel>(dlsym(RTLD_NEXT, "GOMP_parallel"));
+    // A region of this library itself (ordering_scope.cpp) binds here in a shared build linked with
+    // -Bsymbolic-functions, where libgomp was loaded first: the process's definition is then libgomp's.
+    if (const auto global = reinterpret_cast<Parallel>(dlsym(RTLD_DEFAULT, "GOMP_parallel"));
+        !f && global != &GOMP_parallel)
+      f = global;
     if (!f) {
       std::fputs("spinmotor: GOMP_parallel: no OpenMP runtime (libgomp) found after this library\n", stderr);
       std::abort();

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/interrupt.hpp"
 #include "spinmotor/core/parallel.hpp"
 #include "spinmotor/core/stopwatch.hpp"
 #include "spinmotor/ga/quaternion.hpp"
@@ -363,7 +364,10 @@ SpinTransform::SpinTransform(const Mesh& mesh, const SpinTransformOptions& optio
   const Ordering vord = o.order_full_matrix ? Ordering::Natural : o.ordering;
   s.as = std::make_unique<DiracAssembly>(s.V, s.F, vord, reduced, U);
   // Poisson: the cotangent Laplacian and its factor, on a second thread.
-  s.poisson_ready = std::async(std::launch::async, [&s] { s.prepare_poisson(); });
+  s.poisson_ready = std::async(std::launch::async, [&s] {
+    block_stop_signals_on_this_thread();  // stop signals are the application's (core/interrupt.hpp)
+    s.prepare_poisson();
+  });
   s.complex = o.complex_form && !s.as->has_reductions();
   if (o.order_full_matrix) {
     s.chol = CholeskySolver({.ordering = o.ordering, .supernodal = o.supernodal});

@@ -99,12 +99,22 @@ pid_t first_child(pid_t pid) {
   return in >> child ? static_cast<pid_t>(child) : 0;
 }
 
-/// True once `pid` catches `sig` (SigCgt of /proc/PID/status).
-bool catches(pid_t pid, int sig) {
-  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
-  for (std::string line; std::getline(in, line);)
-    if (line.rfind("SigCgt:", 0) == 0) return (std::stoull(line.substr(7), nullptr, 16) >> (sig - 1)) & 1;
-  return false;
+/// argv[1] of process `pid` (from /proc), or "".
+std::string subcommand(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/cmdline");
+  std::string arg;
+  std::getline(in, arg, '\0');
+  std::getline(in, arg, '\0');
+  return in ? arg : std::string();
+}
+
+/// True once the batch `pid` is in its run loop (its InterruptGuard catches SIGTERM) and `child`, the
+/// command it runs, takes SIGTERM on its signal thread (its main thread blocks it: take_stop_signals).
+/// The child must be `flow` already: between posix_spawn's fork and its exec the child is a copy of the
+/// batch with every signal blocked, and the batch waits in posix_spawn until it has exec'ed.
+bool both_ready(pid_t batch, pid_t child) {
+  return spinmotor_test::signal_mask_has(batch, "SigCgt:", SIGTERM) && subcommand(child) == "flow" &&
+         spinmotor_test::signal_mask_has(child, "SigBlk:", SIGTERM);
 }
 
 }  // namespace
@@ -125,14 +135,13 @@ TEST_CASE("batch stopped by SIGTERM: the running command is stopped too, exit 14
   const pid_t batch = spinmotor_test::spawn(argv, dir / "stdout.txt", dir / "stderr.txt");
   const auto t0 = std::chrono::steady_clock::now();
   pid_t child = 0;
-  while (!((child = first_child(batch)) && catches(batch, SIGTERM) && catches(child, SIGTERM)) &&
-         !spinmotor_test::has_exited(batch) &&
+  while (!((child = first_child(batch)) && both_ready(batch, child)) && !spinmotor_test::has_exited(batch) &&
          std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   REQUIRE(child != 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(100));  // a few steps in
   REQUIRE(::kill(batch, SIGTERM) == 0);                         // the batch alone, as a scheduler does
-  const int code = spinmotor_test::wait_exit(batch);
+  const int code = spinmotor_test::wait_exit_within(batch, 60);
   const std::string err = slurp(dir / "stderr.txt");
   INFO(err << slurp(dir / "stdout.txt"));
   CHECK(code == 143);
@@ -140,6 +149,49 @@ TEST_CASE("batch stopped by SIGTERM: the running command is stopped too, exit 14
   CHECK_THAT(slurp(dir / "stdout.txt"), Catch::Contains("1 interrupted, 2 not run"));
   CHECK(::kill(child, 0) != 0);  // the command it ran is gone (and reaped by the batch)
   // nothing but the logs in the output folder: no mesh, no temporary
+  for (const auto& e : fs::directory_iterator(dir / "out")) CHECK(e.path().filename() == "logs");
+}
+
+TEST_CASE("batch --grace: a command still running after the grace period is killed, said so, exit 143",
+          "[cli][batch][interrupt]") {
+  spinmotor_test::TempDir tmp;
+  const fs::path& dir = tmp.path;
+  fs::create_directories(dir / "in");
+  for (const char* name : {"a.obj", "b.obj"})
+    spinmotor::write_mesh(dir / "in" / name, spinmotor::icosphere(3));
+  std::vector<std::string> argv = {SPINMOTOR_CLI, "batch",
+                                   "-j",          "1",
+                                   "--grace",     "0.5",
+                                   "--out-dir",   (dir / "out").string(),
+                                   "--run",       "flow {in} --willmore 0.01 --steps 1000000 --out {out}"};
+  for (const char* name : {"a.obj", "b.obj"}) argv.push_back((dir / "in" / name).string());
+  const pid_t batch = spinmotor_test::spawn(argv, dir / "stdout.txt", dir / "stderr.txt");
+  const auto t0 = std::chrono::steady_clock::now();
+  pid_t child = 0;
+  while (!((child = first_child(batch)) && both_ready(batch, child)) && !spinmotor_test::has_exited(batch) &&
+         std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  REQUIRE(child != 0);
+  // A command that does not stop on the signal: stopped (SIGSTOP), it cannot act on SIGTERM. What it
+  // had in flight: a temporary of its output, named as AtomicFile names them.
+  REQUIRE(::kill(child, SIGSTOP) == 0);
+  const fs::path temporary = dir / "out" / (".a.obj." + std::to_string(child) + ".0.1.tmp");
+  std::ofstream(temporary) << "v 0 0 0\n";
+  const auto signalled = std::chrono::steady_clock::now();
+  REQUIRE(::kill(batch, SIGTERM) == 0);
+  const int code = spinmotor_test::wait_exit_within(batch, 60);
+  const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
+  const std::string err = slurp(dir / "stderr.txt"), out = slurp(dir / "stdout.txt");
+  INFO(err << out);
+  CHECK(code == 143);
+  CHECK(waited >= 0.5);  // the grace period first
+  CHECK(waited < 2.5);   // then the kill, at once
+  CHECK_THAT(out,
+             Catch::Contains("0 interrupted, 1 killed (still running 0.5 s after the signal), 1 not run"));
+  CHECK_THAT(out, Catch::Contains("killed (exit 137): " + (dir / "in" / "a.obj").string()));
+  CHECK_THAT(err, Catch::Contains("interrupted by SIGTERM: batch stopped with 0 of 2 outputs written (1 "
+                                  "command killed, still running 0.5 s after the signal)"));
+  CHECK(::kill(child, 0) != 0);  // killed and reaped
   for (const auto& e : fs::directory_iterator(dir / "out")) CHECK(e.path().filename() == "logs");
 }
 

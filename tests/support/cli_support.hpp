@@ -3,17 +3,20 @@
 // read back from a file, start a tool in the background (to signal it), and a per-process scratch
 // directory removed at the end of the test case.
 #include <fcntl.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 extern char** environ;
@@ -87,6 +90,31 @@ inline int wait_exit(pid_t pid) {
 inline bool has_exited(pid_t pid) {
   siginfo_t info{};
   return waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT) == 0 && info.si_pid == pid;
+}
+
+/// wait_exit, for at most `seconds`: a process still running then is killed (SIGKILL) and reaped, and
+/// the result is −1001, so that a hang fails the test instead of outliving it (ctest's TIMEOUT ends
+/// the test, not the programs it started).
+inline int wait_exit_within(pid_t pid, double seconds) {
+  const auto t0 = std::chrono::steady_clock::now();
+  while (!has_exited(pid) &&
+         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < seconds)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  if (has_exited(pid)) return wait_exit(pid);
+  kill(pid, SIGKILL);
+  wait_exit(pid);
+  return -1001;
+}
+
+/// Whether signal `sig` is in the mask `field` ("SigCgt:" caught, "SigBlk:" blocked by the main thread)
+/// of /proc/PID/status. A spinmotor program is ready to stop cleanly once its main thread blocks the
+/// stop signals (take_stop_signals: its signal thread takes them); its InterruptGuard shows in SigCgt.
+inline bool signal_mask_has(pid_t pid, const char* field, int sig) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  const std::string key = field;
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind(key, 0) == 0) return (std::stoull(line.substr(key.size()), nullptr, 16) >> (sig - 1)) & 1;
+  return false;
 }
 
 /// A scratch directory named after the process (ctest runs every test case in its own process).

@@ -387,8 +387,8 @@ int run_headless(const Args& a) {
       o.style.signed_range = std::max(rho.cwiseAbs().maxCoeff(), 1e-12);
     }
     fb.bind();
-    // From here a signal (SIGINT, SIGTERM) stops the frame loop between two frames, and nothing is written:
-    // the screenshot shows a run's last frame, so a stopped run has none (exit 128 + signal).
+    // From here a signal (SIGINT, SIGTERM, SIGHUP) stops the frame loop between two frames, and nothing is
+    // written: the screenshot shows a run's last frame, so a stopped run has none (exit 128 + signal).
     const InterruptGuard guard;
     int done = 0;  // frames posed and drawn
     if (a.frames > 0 && s.animation() >= 0)

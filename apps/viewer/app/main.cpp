@@ -28,16 +28,23 @@
 // poses and uploads N frames (a rotation growing through the gizmo code path; a rig: N times over its
 // animation, with --snap --keep-pose each one cleaned up in the snap worker as the window's "clean up
 // each frame" does) and prints the frame timer. --skeleton draws the bones (bone_overlay.hpp).
-// Exit codes: 0 ok, 2 bad input, 3 numerical failure, 130 / 143 a headless run stopped by SIGINT /
-// SIGTERM (between two frames; no screenshot is written, and one line on stderr says after how many).
+// Exit codes: 0 ok, 2 bad input, 3 numerical failure, 129 / 130 / 143 a headless run stopped by SIGHUP /
+// SIGINT / SIGTERM (between two frames; no screenshot is written, and one line on stderr says after how
+// many). Elsewhere a stop signal ends the viewer by that signal.
 #include <CLI/CLI.hpp>
 #include <iostream>
 
 #include "app.hpp"
 #include "spinmotor/core/error.hpp"
+#include "spinmotor/core/interrupt.hpp"
+#include "spinmotor/linalg/blas_threads.hpp"
 #include "spinmotor/viewer/deformer_presets.hpp"
 
 int main(int argc, char** argv) {
+  // SIGINT, SIGTERM, SIGHUP: taken by a thread of their own, never by a dependency's handler (METIS
+  // traps SIGTERM while the snap worker orders); OpenBLAS's load-time workers start again blocking them.
+  spinmotor::take_stop_signals();
+  spinmotor::join_idle_blas_workers();
   CLI::App app{"spinmotor-viewer: pose a mesh with CGA motor handles and snap it to a spin transformation"};
   spinmotor::viewer::app::Args a;
   app.add_option("DOC", a.doc, "Scene file (.json, docs/scene.md), glTF rig (.gltf/.glb) or mesh file");

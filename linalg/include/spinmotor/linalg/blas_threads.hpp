@@ -37,6 +37,13 @@ namespace spinmotor {
 
 bool use_single_threaded_blas();
 
+/// Joins OpenBLAS's worker threads now unless BLAS work of this library is in flight, whatever the
+/// thread count (OPENBLAS_NUM_THREADS included); its next threaded call starts them again, from the
+/// calling thread, whose signal mask they inherit. For a program's main() after take_stop_signals()
+/// (core/interrupt.hpp): the workers OpenBLAS started when it was loaded do not block the stop signals.
+/// Does nothing without OpenBLAS.
+void join_idle_blas_workers();
+
 /// Factorization work (CHOLMOD's flop count from the symbolic analysis, Common::fl; a complex entry's
 /// operations counted once) from which a numeric factorization runs OpenBLAS on every core.
 inline constexpr double kThreadedBlasFactorFlops = 1e10;

@@ -21,6 +21,8 @@
 #include <thread>
 #include <utility>
 
+#include "spinmotor/core/interrupt.hpp"
+
 namespace spinmotor::viewer {
 
 /// The body of a worker's `compute`: fills a fresh Outcome (with its generation) through body(out);
@@ -44,7 +46,11 @@ class LatestJobWorker {
  public:
   using Compute = std::function<Outcome(Job& job, std::uint64_t generation)>;
 
-  explicit LatestJobWorker(Compute compute) : compute_(std::move(compute)), thread_([this] { loop(); }) {}
+  explicit LatestJobWorker(Compute compute)
+      : compute_(std::move(compute)), thread_([this] {
+          block_stop_signals_on_this_thread();  // stop signals are the application's (core/interrupt.hpp)
+          loop();
+        }) {}
   /// Waits for the job in progress, if any, then stops.
   ~LatestJobWorker() {
     {
