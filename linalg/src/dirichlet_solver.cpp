@@ -67,16 +67,11 @@ void DirichletSolver::bind(const Eigen::SparseMatrix<double>& A, const Eigen::Ve
   bind_impl(A, constrained, &free_order, kind);
 }
 
-void DirichletSolver::bind_impl(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXi& constrained,
-                                const Eigen::VectorXi* free_order, Kind kind,
-                                const std::vector<char>* anchors) {
-  Impl& m = *impl_;
-  m.n = -1;
-  m.cholesky.reset();
-  m.lu.reset();
-  detail::check_square_finite(A, "DirichletSolver");
-  const int n = static_cast<int>(A.rows());
-  // slot[i] = position among the free (≥ 0) or −1 − position among the constrained unknowns.
+namespace {
+
+/// slot[i] = position among the free (≥ 0, assigned later) or −1 − position among the constrained
+/// unknowns; range and repeat checks of `constrained`.
+std::vector<int> constrained_slots(int n, const Eigen::VectorXi& constrained) {
   std::vector<int> slot(n, 0);
   for (Eigen::Index r = 0; r < constrained.size(); ++r) {
     const int i = constrained[r];
@@ -93,53 +88,69 @@ void DirichletSolver::bind_impl(const Eigen::SparseMatrix<double>& A, const Eige
     }
     slot[i] = -1 - static_cast<int>(r);
   }
-  // Every connected component of the matrix graph needs a constrained vertex, else A_FF is singular.
+  return slot;
+}
+
+/// Every connected component of the matrix graph needs a constrained vertex (or an anchor), else A_FF
+/// is singular: FloatingComponentError naming the first that has none.
+void check_anchored(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXi& constrained,
+                    const std::vector<char>* anchors) {
   const detail::GraphComponents g = detail::matrix_components(A);
   std::vector<char> anchored(g.count(), 0);
   for (Eigen::Index r = 0; r < constrained.size(); ++r) anchored[g.label[constrained[r]]] = 1;
   if (anchors)
-    for (int i = 0; i < n; ++i)
+    for (Eigen::Index i = 0; i < A.rows(); ++i)
       if ((*anchors)[i]) anchored[g.label[i]] = 1;
   std::vector<FloatingComponentError::Component> floating;
   for (int c = 0; c < g.count(); ++c)
     if (!anchored[c]) floating.push_back({c, g.size[c], g.first[c]});
-  if (!floating.empty()) {
-    // The message first: the vector is moved into the exception.
-    const std::string what =
-        "DirichletSolver: " + detail::describe_component(g, floating[0].id, "vertex", "vertices") + " of " +
-        std::to_string(g.count()) + " has no constrained vertex: its values are undetermined";
-    throw FloatingComponentError(what, std::move(floating), g.count());
-  }
+  if (floating.empty()) return;
+  // The message first: the vector is moved into the exception.
+  const std::string what =
+      "DirichletSolver: " + detail::describe_component(g, floating[0].id, "vertex", "vertices") + " of " +
+      std::to_string(g.count()) + " has no constrained vertex: its values are undetermined";
+  throw FloatingComponentError(what, std::move(floating), g.count());
+}
+
+/// The free unknowns in the caller's order (checked) or increasing; fills their slots. Returns whether
+/// the order is increasing.
+bool number_free(const Eigen::VectorXi* free_order, std::vector<int>& slot, Eigen::VectorXi& free) {
+  const int n = static_cast<int>(slot.size());
   int nf = 0;
-  m.free.resize(n - constrained.size());
   bool sorted = true;
-  if (free_order) {
-    if (free_order->size() != m.free.size()) {
+  if (!free_order) {
+    for (int i = 0; i < n; ++i)
+      if (slot[i] == 0) free[nf] = i, slot[i] = nf++;
+    return true;
+  }
+  if (free_order->size() != free.size()) {
+    std::ostringstream s;
+    s << "DirichletSolver: the free order has " << free_order->size()
+      << " indices, expected n - c = " << free.size();
+    throw Error(s.str());
+  }
+  for (Eigen::Index r = 0; r < free_order->size(); ++r) {
+    const int i = (*free_order)[r];
+    if (i < 0 || i >= n || slot[i] != 0) {
       std::ostringstream s;
-      s << "DirichletSolver: the free order has " << free_order->size()
-        << " indices, expected n - c = " << m.free.size();
+      s << "DirichletSolver: free order index " << r << " is " << i
+        << (i < 0 || i >= n ? ", out of range" : ", constrained or listed twice");
       throw Error(s.str());
     }
-    for (Eigen::Index r = 0; r < free_order->size(); ++r) {
-      const int i = (*free_order)[r];
-      if (i < 0 || i >= n || slot[i] != 0) {
-        std::ostringstream s;
-        s << "DirichletSolver: free order index " << r << " is " << i
-          << (i < 0 || i >= n ? ", out of range" : ", constrained or listed twice");
-        throw Error(s.str());
-      }
-      m.free[nf] = i, slot[i] = nf++;
-      sorted = sorted && (r == 0 || i > (*free_order)[r - 1]);
-    }
-  } else {
-    for (int i = 0; i < n; ++i)
-      if (slot[i] == 0) m.free[nf] = i, slot[i] = nf++;
+    free[nf] = i, slot[i] = nf++;
+    sorted = sorted && (r == 0 || i > (*free_order)[r - 1]);
   }
-  // A_FF and A_FC in compressed column storage, one pass over A (rows stay sorted: the maps are monotone
-  // on the free unknowns; A_FC columns follow the order of `constrained`).
-  const int nc = static_cast<int>(constrained.size());
-  Eigen::SparseMatrix<double> A_FF(nf, nf);
-  m.A_FC.resize(nf, nc);
+  return sorted;
+}
+
+/// A_FF and A_FC in compressed column storage, one pass over A (rows stay sorted when the free order is
+/// increasing: the maps are monotone on the free unknowns; A_FC columns follow the order of
+/// `constrained`).
+void extract_blocks(const Eigen::SparseMatrix<double>& A, const std::vector<int>& slot, int nf, int nc,
+                    bool sorted, Eigen::SparseMatrix<double>& A_FF, Eigen::SparseMatrix<double>& A_FC) {
+  const int n = static_cast<int>(A.rows());
+  A_FF.resize(nf, nf);
+  A_FC.resize(nf, nc);
   std::vector<int> ff_outer(nf + 1, 0), fc_outer(nc + 1, 0);
   for (int j = 0; j < n; ++j)
     for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) {
@@ -152,15 +163,15 @@ void DirichletSolver::bind_impl(const Eigen::SparseMatrix<double>& A, const Eige
   for (int j = 0; j < nf; ++j) ff_outer[j + 1] += ff_outer[j];
   for (int j = 0; j < nc; ++j) fc_outer[j + 1] += fc_outer[j];
   A_FF.resizeNonZeros(ff_outer[nf]);
-  m.A_FC.resizeNonZeros(fc_outer[nc]);
+  A_FC.resizeNonZeros(fc_outer[nc]);
   // Fresh memory, written whole below: faulted in by one system call each (core/huge_pages.hpp).
   prepare_fresh(A_FF.innerIndexPtr(), sizeof(int) * static_cast<std::size_t>(ff_outer[nf]));
   prepare_fresh(A_FF.valuePtr(), sizeof(double) * static_cast<std::size_t>(ff_outer[nf]));
   std::copy(ff_outer.begin(), ff_outer.end(), A_FF.outerIndexPtr());
-  std::copy(fc_outer.begin(), fc_outer.end(), m.A_FC.outerIndexPtr());
+  std::copy(fc_outer.begin(), fc_outer.end(), A_FC.outerIndexPtr());
   for (int j = 0; j < n; ++j) {  // ff_outer / fc_outer now serve as per-column write cursors
     const bool jf = slot[j] >= 0;
-    Eigen::SparseMatrix<double>& T = jf ? A_FF : m.A_FC;
+    Eigen::SparseMatrix<double>& T = jf ? A_FF : A_FC;
     std::vector<int>& cursor = jf ? ff_outer : fc_outer;
     int& pos = cursor[jf ? slot[j] : -1 - slot[j]];
     for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) {
@@ -172,9 +183,28 @@ void DirichletSolver::bind_impl(const Eigen::SparseMatrix<double>& A, const Eige
   }
   if (!sorted) {  // rows follow the caller's order: sort each column
     sort_columns(A_FF);
-    sort_columns(m.A_FC);
+    sort_columns(A_FC);
   }
+}
 
+}  // namespace
+
+void DirichletSolver::bind_impl(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXi& constrained,
+                                const Eigen::VectorXi* free_order, Kind kind,
+                                const std::vector<char>* anchors) {
+  Impl& m = *impl_;
+  m.n = -1;
+  m.cholesky.reset();
+  m.lu.reset();
+  detail::check_square_finite(A, "DirichletSolver");
+  const int n = static_cast<int>(A.rows());
+  std::vector<int> slot = constrained_slots(n, constrained);
+  check_anchored(A, constrained, anchors);
+  m.free.resize(n - constrained.size());
+  const bool sorted = number_free(free_order, slot, m.free);
+  Eigen::SparseMatrix<double> A_FF;
+  extract_blocks(A, slot, static_cast<int>(m.free.size()), static_cast<int>(constrained.size()), sorted, A_FF,
+                 m.A_FC);
   m.kind = kind;
   m.constrained = constrained;
   try {

@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <string>
 
+#include "spinmotor/mesh/gltf.hpp"
+
 namespace spinmotor::detail {
 
 using GltfRows = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
@@ -52,5 +54,9 @@ struct GltfAccessors {
   void read_elements(int view, size_t offset, size_t count, int c, int ct, bool normalized,
                      const std::string& label, GltfRows& out, const std::vector<size_t>* rows) const;
 };
+
+/// Animation `ai` of the file (gltf_read_animation.cpp): channels on the rig's nodes; `ignored` counts
+/// the channels skipped (paths the rig does not play).
+GltfAnimation read_gltf_animation(const GltfAccessors& acc, const GltfRig& rig, size_t ai, int& ignored);
 
 }  // namespace spinmotor::detail

@@ -284,21 +284,13 @@ GltfChannel walk_rotation(int node, const Vec3& axis, const Eigen::Matrix3d& R,
   return c;
 }
 
-}  // namespace
-
-GltfRig character_rig(const CharacterRigOptions& o) {
-  if (o.resolution < 1) throw Error("character_rig: resolution must be at least 1");
-  if (!(o.armature_scale > 0) || !std::isfinite(o.armature_scale))
-    throw Error("character_rig: armature_scale must be positive");
-  if (!(std::abs(o.walk_degrees) < 90)) throw Error("character_rig: walk_degrees must lie in (−90, 90)");
+/// The joints (Scene layout: roots at the top; else under an "Armature" node of rotation R, scale s)
+/// and their inverse bind matrices.
+void character_skeleton(const CharacterRigOptions& o, const Eigen::Matrix3d& R, double s, GltfRig& rig) {
   const bool armature = o.layout != CharacterLayout::Scene;
   // A: the armature's global matrix (identity in the Scene layout); joints' local frames are A's.
-  const double s = armature ? o.armature_scale : 1.0;
-  const Eigen::Matrix3d R =
-      armature ? Eigen::AngleAxisd(-kPi / 2, Vec3::UnitX()).toRotationMatrix() : Eigen::Matrix3d::Identity();
   Eigen::Matrix4d A = Eigen::Matrix4d::Identity();
   A.topLeftCorner<3, 3>() = s * R;
-  GltfRig rig;
   for (int j = 0; j < kJoints; ++j) {
     const JointSpec& js = kSkeleton[j];
     GltfNode g;
@@ -324,6 +316,11 @@ GltfRig character_rig(const CharacterRigOptions& o) {
     a.scale = Vec3::Constant(s);
     rig.nodes.push_back(a);
   }
+}
+
+/// The pieces (one node each, skinned by the one skin), welded surface = file vertices.
+void character_surface(const CharacterRigOptions& o, const Eigen::Matrix3d& R, double s, GltfRig& rig) {
+  const bool armature = o.layout != CharacterLayout::Scene;
   const std::vector<PieceSpec> specs = character_pieces(o);
   // POSITION: scene coordinates, or the armature's (A⁻¹ x) in the Armature layout.
   const Eigen::Matrix3d to_file = o.layout == CharacterLayout::Armature ? Eigen::Matrix3d(R.transpose() / s)
@@ -372,7 +369,10 @@ GltfRig character_rig(const CharacterRigOptions& o) {
   rig.surface_to_file = rig.file_to_surface;
   rig.weights.resize(nv, kJoints);
   rig.weights.setFromTriplets(weights.begin(), weights.end());
+}
 
+/// "walk" (legs, arms, head, the hips' bob, morph weights) and, optionally, "squash" (scaling joints).
+void character_animations(const CharacterRigOptions& o, const Eigen::Matrix3d& R, double s, GltfRig& rig) {
   const double a = o.walk_degrees * kPi / 180.0;
   auto phase = [](double t) { return 2 * kPi * t; };
   GltfAnimation walk{"walk", 0.0, 1.0, {}};
@@ -423,7 +423,8 @@ GltfRig character_rig(const CharacterRigOptions& o) {
     GltfChannel chest;
     chest.node = Chest;
     chest.path = GltfPath::Scale;
-    chest.times = Eigen::Vector3d(0, 0.5, 1);
+    chest.times.resize(3);
+    chest.times << 0, 0.5, 1;
     chest.values.resize(3, 3);
     chest.values << 1, 1, 1, 1.2, 1.2, 1.2, 1, 1, 1;
     GltfChannel elbow = chest;
@@ -432,6 +433,23 @@ GltfRig character_rig(const CharacterRigOptions& o) {
     squash.channels = {chest, elbow};
     rig.animations.push_back(squash);
   }
+}
+
+}  // namespace
+
+GltfRig character_rig(const CharacterRigOptions& o) {
+  if (o.resolution < 1) throw Error("character_rig: resolution must be at least 1");
+  if (!(o.armature_scale > 0) || !std::isfinite(o.armature_scale))
+    throw Error("character_rig: armature_scale must be positive");
+  if (!(std::abs(o.walk_degrees) < 90)) throw Error("character_rig: walk_degrees must lie in (−90, 90)");
+  const bool armature = o.layout != CharacterLayout::Scene;
+  const double s = armature ? o.armature_scale : 1.0;
+  const Eigen::Matrix3d R =
+      armature ? Eigen::AngleAxisd(-kPi / 2, Vec3::UnitX()).toRotationMatrix() : Eigen::Matrix3d::Identity();
+  GltfRig rig;
+  character_skeleton(o, R, s, rig);
+  character_surface(o, R, s, rig);
+  character_animations(o, R, s, rig);
   return rig;
 }
 
