@@ -194,10 +194,10 @@ double SimilarityOneRings::fit(const RowMatrix3& V, Eigen::Index& fallbacks) {
       continue;
     }
     ga::RotationInfo info;
-    // Cold-started from the identity: where the best rotation is not unique (a cell an edit collapsed
-    // to a line: a 180° twist) the identity's member of the family is taken, every iteration alike.
-    // (Warm-started from the previous rotor, a 180° twisted arm takes 100 iterations, not 61.)
-    sim_[k] = ga::best_similarity(S, d_[k], ga::Rot(1.0, 0.0, 0.0, 0.0), &info);
+    // Warm-started from the cell's previous rotor: Horn's fast path (a cold start far from the identity
+    // takes the Jacobi fallback); where the best rotation is not unique (a cell collapsed to a line) the
+    // member nearest the previous one.
+    sim_[k] = ga::best_similarity(S, d_[k], sim_[k].rotor, &info);
     T_[k] = sim_[k].scale * ga::rotation_matrix(sim_[k].rotor);
     energy += e2sum - sim_[k].scale * std::max(info.trace, 0.0);
   }

@@ -17,7 +17,8 @@
 //   SimilarityOneRings  a similarity s_i R_i per vertex for its cotangent-weighted spokes (3D Procrustes
 //                       with scale: ga::best_similarity); E_i = Σ_j w_ij |e'_ij − s_i R_i e_ij|²; the
 //                       right-hand side ½ Σ_j w_ij (T_i + T_j)(v⁰_i − v⁰_j). A cell whose covariance
-//                       vanishes keeps its previous transform; each fit starts from the identity.
+//                       vanishes keeps its previous transform; each fit is warm-started from the cell's
+//                       previous rotor.
 // Each kind is bound once (rest data, CSR layouts) and fits in parallel without allocating. Faces with
 // every corner fixed (SimilarityFaces) and cells of vertices no free vertex touches (SimilarityOneRings)
 // are left out: the cost scales with the free region.
