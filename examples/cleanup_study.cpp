@@ -134,7 +134,7 @@ void arm_study(bool small, std::vector<Row>& rows) {
   std::vector<Bone> bones(2);
   bones[0] = {.name = "upper", .parent = -1, .head = {0, 0, -1}, .tail = {0, 0, 3}};
   bones[1] = {.name = "lower", .parent = 0, .head = {0, 0, 3}, .tail = {0, 0, 7}};
-  const Eigen::VectorXi pins = pins_from_weights(arm.V, W, 0.999, 0.5);
+  const Eigen::VectorXi pins = pins_from_weights(arm.V, W, kRigidWeight, 0.5);
   SkinDeformer lbs = SkinDeformer::bind(arm, bones, W, {.blend = SkinBlend::LBS});
   SkinDeformer dqs = SkinDeformer::bind(arm, bones, W, {.blend = SkinBlend::Linear});
   DeltaMushDeformer dm = DeltaMushDeformer::bind(arm, bones, W, DeltaMushDeformer::Options{});
@@ -210,7 +210,7 @@ void rig_study(const std::filesystem::path& dir, const std::filesystem::path& ou
     const Eigen::MatrixXd W(skin.weights);
     const Mesh& rest = skin.rest;  // scene coordinates, the bones' frame
     const Eigen::VectorXi pins =
-        pins_from_weights(rest.V, W, 0.999, default_pin_margins(rest.V, W, skin.bones, 0.999));
+        pins_from_weights(rest.V, W, kRigidWeight, default_pin_margins(rest.V, W, skin.bones));
     SkinDeformer lbs = SkinDeformer::bind(rest, skin.bones, W, {.blend = SkinBlend::LBS});
     SkinDeformer dqs = SkinDeformer::bind(rest, skin.bones, W, {.blend = SkinBlend::Linear});
     DeltaMushDeformer dm = DeltaMushDeformer::bind(rest, skin.bones, W, DeltaMushDeformer::Options{});

@@ -354,7 +354,7 @@ void stage_rig(Demo& d) {
                              {"volume_ratio_lbs", kc.edit_volume_ratio},
                              {"volume_ratio_cleaned", kc.volume_ratio},
                              {"pin_error", kc.pin_error},
-                             {"pose_weight", scene::RigCleanupOptions{}.pose_weight},
+                             {"pose_weight", scene::RigCleanupOptions{}.cleanup.pose_weight},
                              {"rms_to_lbs_snapped", rms_to(ks.V, skinned.V)},
                              {"rms_to_lbs_cleaned", rms_to(arm_cleaned.V, skinned.V)}};
   d.progress("skinned the arm, snapped it and cleaned it up with the rigid parts pinned");

@@ -311,7 +311,7 @@ json cleanup_report(const spinmotor::GltfRig& rig, const spinmotor::scene::RigCl
   }
   return {{"pins", c.pins().size()},
           {"cleaned_vertices", c.cleaned_vertices()},
-          {"pose_weight", c.options().pose_weight},
+          {"pose_weight", c.options().cleanup.pose_weight},
           {"largest_margin", c.margins().size() ? c.margins().maxCoeff() : 0.0},
           {"statuses", counts},
           {"pieces", pieces}};
@@ -386,7 +386,7 @@ void run_pose(const RigArgs& a) {
     const json& cr = report["cleanup"];
     std::cerr << "rig pose: cleanup pinned: " << c->pins().size() << " of " << rig.mesh.V.rows()
               << " vertices pinned, " << c->pieces().size() << " pieces (" << cr["statuses"].dump()
-              << "), pose weight " << c->options().pose_weight << "\n";
+              << "), pose weight " << c->options().cleanup.pose_weight << "\n";
   }
   // Pose every frame (in time order: the cleanup's warm start), keeping the figures.
   const spinmotor::Mesh& rest = poser.rig_skin().rest;
@@ -512,7 +512,7 @@ void add_pose_options(CLI::App* pose, const std::shared_ptr<RigArgs>& a) {
       "--cleanup pinned: rigid vertices closer than this to a blended one are left free (default, per "
       "bone: a quarter of the widest blend band of its joints)");
   pose->add_option(
-          "--pose-weight", a->rig_cleanup.pose_weight,
+          "--pose-weight", a->rig_cleanup.cleanup.pose_weight,
           "--cleanup pinned: γ ≥ 0 of the attraction that holds the soft parts near the skinned pose (1 on "
           "rigid parts, 0 mid-joint; 0 = pins only)")
       ->check(CLI::NonNegativeNumber)

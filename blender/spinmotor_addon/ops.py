@@ -37,6 +37,10 @@ OUTPUT_ITEMS = [
     ("OBJECT", "New object", "A new mesh object per frame with the cleaned positions (no modifiers)"),
 ]
 HANDLE_PROPS = ("spinmotor_mesh", "spinmotor_group", "spinmotor_rest")
+# The library's rig cleanup defaults (spinmotor.RIG_CLEANUP_DEFAULTS, scene::RigCleanupOptions), the one
+# home of the properties' defaults here: the module is loaded only after registration, from the folder
+# the preferences name, so they are written out; tests/blender/test_addon.py checks they are the library's.
+RIG_DEFAULTS = {"threshold": 0.999, "pose_weight": 10.0, "keep": "auto", "max_iterations": 100}
 
 
 def prefs_dir(context):
@@ -228,7 +232,7 @@ class SPINMOTOR_OT_bake_cleanup(bpy.types.Operator):
     bl_options = {'REGISTER', 'UNDO'}
 
     threshold: FloatProperty(
-        name="Threshold", default=0.999, min=0.5, max=1.0, precision=4,
+        name="Threshold", default=RIG_DEFAULTS["threshold"], min=0.5, max=1.0, precision=4,
         description="Pin the vertices whose dominant bone weight is at least this (the bones' rigid parts)")
     per_bone_margin: BoolProperty(
         name="Per-bone margin", default=True,
@@ -241,13 +245,14 @@ class SPINMOTOR_OT_bake_cleanup(bpy.types.Operator):
         name="Pin group", default="",
         description="Pin this vertex group's vertices (weight > 0) instead of choosing pins from bone weights")
     pose_weight: FloatProperty(
-        name="Pose weight", default=10.0, min=0.0,
+        name="Pose weight", default=RIG_DEFAULTS["pose_weight"], min=0.0,
         description="Strength of the attraction that holds the soft parts near the armature pose (weights from "
-                    "the bones: 1 on rigid parts, 0 mid-joint); 0 = the pins only. 10 is the library's rig default")
+                    "the bones: 1 on rigid parts, 0 mid-joint); 0 = the pins only. The library's rig default")
     frame_start: IntProperty(name="Start", default=1, description="First frame to bake")
     frame_end: IntProperty(name="End", default=1, description="Last frame to bake")
-    keep: EnumProperty(name="Keep", items=KEEP_ITEMS, default="auto", description="Measure kept by the cleanup")
-    max_iterations: IntProperty(name="Iterations", default=100, min=1, max=10000,
+    keep: EnumProperty(name="Keep", items=KEEP_ITEMS, default=RIG_DEFAULTS["keep"],
+                       description="Measure kept by the cleanup")
+    max_iterations: IntProperty(name="Iterations", default=RIG_DEFAULTS["max_iterations"], min=1, max=10000,
                                 description="Maximum local/global iterations per frame")
     output: EnumProperty(name="Output", items=OUTPUT_ITEMS, default="SHAPE_KEY")
     animate: BoolProperty(
@@ -492,7 +497,7 @@ class SPINMOTOR_OT_pins_to_group(MeshOperator, bpy.types.Operator):
     bl_label = "Pins to Vertex Group"
     bl_options = {'REGISTER', 'UNDO'}
 
-    threshold: FloatProperty(name="Threshold", default=0.999, min=0.5, max=1.0, precision=4)
+    threshold: FloatProperty(name="Threshold", default=RIG_DEFAULTS["threshold"], min=0.5, max=1.0, precision=4)
     per_bone_margin: BoolProperty(name="Per-bone margin", default=True,
                                   description="The library's default room for the joints (off: the Margin distance)")
     margin: FloatProperty(name="Margin", default=0.0, min=0.0, unit='LENGTH')

@@ -25,18 +25,18 @@ class SpinmotorPreferences(bpy.types.AddonPreferences):
 class SpinmotorSettings(bpy.types.PropertyGroup):
     pin_group: StringProperty(name="Pin group", default="",
                               description="Pin this vertex group's vertices instead of choosing pins from bone weights")
-    threshold: FloatProperty(name="Threshold", default=0.999, min=0.5, max=1.0, precision=4,
+    threshold: FloatProperty(name="Threshold", default=ops.RIG_DEFAULTS["threshold"], min=0.5, max=1.0, precision=4,
                              description="Pin vertices whose dominant bone weight is at least this")
     per_bone_margin: BoolProperty(name="Per-bone margin", default=True,
                                   description="The library's default room for the joints: per bone, a quarter of the "
                                               "widest blend band of its joints (off: the Margin distance)")
     margin: FloatProperty(name="Margin", default=0.0, min=0.0, unit='LENGTH',
                           description="With Per-bone margin off: pins lie farther than this from every blended vertex")
-    pose_weight: FloatProperty(name="Pose weight", default=10.0, min=0.0,
+    pose_weight: FloatProperty(name="Pose weight", default=ops.RIG_DEFAULTS["pose_weight"], min=0.0,
                                description="Hold the soft parts near the armature pose (0 = the pins only)")
     frame_start: IntProperty(name="Start", default=1)
     frame_end: IntProperty(name="End", default=1)
-    keep: EnumProperty(name="Keep", items=ops.KEEP_ITEMS, default="auto")
+    keep: EnumProperty(name="Keep", items=ops.KEEP_ITEMS, default=ops.RIG_DEFAULTS["keep"])
     output: EnumProperty(name="Output", items=ops.OUTPUT_ITEMS, default="SHAPE_KEY")
     tradeoff: FloatProperty(name="Trade-off", default=1.0, min=0.0, max=1.0, subtype='FACTOR',
                             description="Snap: 0 follows the edit, 1 is conformal")

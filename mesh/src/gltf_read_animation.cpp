@@ -115,5 +115,4 @@ GltfAnimation read_gltf_animation(const GltfAccessors& acc, const GltfRig& rig, 
   return anim;
 }
 
-
 }  // namespace spinmotor::detail

@@ -40,7 +40,7 @@ scene::RigPoseOptions pose_options(int animation, const std::string& blend, cons
   o.cleanup = parse_option<scene::RigCleanupMode>(cleanup, "cleanup: ");
   o.cleanup_options.pin_threshold = pin_threshold;
   o.cleanup_options.pin_margin = pin_margin;
-  o.cleanup_options.pose_weight = pose_weight;
+  o.cleanup_options.cleanup.pose_weight = pose_weight;
   o.space = parse_option<scene::RigSpace>(space, "space: ");
   o.cleanup_options.cleanup.warm_start = warm_start;
   return o;
@@ -245,7 +245,7 @@ every influence, in scene coordinates (the reference the blends are compared wit
           py::arg("animation") = 0, py::arg("blend") = "lbs", py::arg("cleanup") = "none",
           py::arg("pin_threshold") = scene::RigCleanupOptions{}.pin_threshold,
           py::arg("pin_margin") = scene::RigCleanupOptions{}.pin_margin,
-          py::arg("pose_weight") = scene::RigCleanupOptions{}.pose_weight, py::arg("space") = "scene",
+          py::arg("pose_weight") = scene::RigCleanupOptions{}.cleanup.pose_weight, py::arg("space") = "scene",
           py::arg("warm_start") = false, R"doc(
 poser(animation=0, blend="lbs", cleanup="none", pin_threshold=0.999, pin_margin=-1, pose_weight=10,
       space="scene", warm_start=False)
@@ -308,7 +308,7 @@ void bind_rig_bake(py::module_& m) {
       py::arg("animation") = 0, py::arg("blend") = "lbs", py::arg("cleanup") = "none",
       py::arg("pin_threshold") = scene::RigCleanupOptions{}.pin_threshold,
       py::arg("pin_margin") = scene::RigCleanupOptions{}.pin_margin,
-      py::arg("pose_weight") = scene::RigCleanupOptions{}.pose_weight, py::arg("space") = "scene",
+      py::arg("pose_weight") = scene::RigCleanupOptions{}.cleanup.pose_weight, py::arg("space") = "scene",
       py::arg("name") = py::none(), py::arg("warm_start") = true, py::arg("mode") = "frames",
       py::arg("max_error") = CorrectiveOptions{}.max_error, R"doc(
 bake(path, frames=None, times=None, animation=0, blend="lbs", cleanup="none", pin_threshold=0.999,
@@ -552,7 +552,7 @@ void bind_rig_bind_cleanup(py::module_& m) {
         scene::RigCleanupOptions o;
         o.pin_threshold = threshold;
         o.pin_margin = margin;
-        o.pose_weight = pose_weight;
+        o.cleanup.pose_weight = pose_weight;
         o.cleanup.keep = parse_option<CleanupKeep>(keep, "keep: ");
         o.cleanup.max_iterations = max_iterations;
         o.cleanup.warm_start = warm_start;
@@ -561,7 +561,8 @@ void bind_rig_bind_cleanup(py::module_& m) {
                                 [rig](Eigen::Index v) { return rig->vertex_label(v); });
       },
       py::arg("threshold") = def.pin_threshold, py::arg("margin") = def.pin_margin,
-      py::arg("pose_weight") = def.pose_weight, py::arg("keep") = std::string(option_name(def.cleanup.keep)),
+      py::arg("pose_weight") = def.cleanup.pose_weight,
+      py::arg("keep") = std::string(option_name(def.cleanup.keep)),
       py::arg("max_iterations") = def.cleanup.max_iterations, py::arg("warm_start") = def.cleanup.warm_start,
       R"doc(
 bind_cleanup(threshold=0.999, margin=-1, pose_weight=10, keep="auto", max_iterations=100, warm_start=False)

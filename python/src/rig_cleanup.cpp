@@ -90,7 +90,7 @@ scene::RigCleanupOptions cleanup_options(double threshold, double margin, double
   scene::RigCleanupOptions o;
   o.pin_threshold = threshold;
   o.pin_margin = margin;
-  o.pose_weight = pose_weight;
+  o.cleanup.pose_weight = pose_weight;
   o.cleanup.keep = parse_option<CleanupKeep>(keep, "keep: ");
   o.cleanup.max_iterations = max_iterations;
   o.cleanup.tolerance = tolerance;
@@ -113,6 +113,18 @@ py::object make_rig_cleanup(const Mesh& rest, const Eigen::SparseMatrix<double>&
 
 void bind_rig_cleanup(py::module_& m) {
   const scene::RigCleanupOptions def;
+  // The library's rig defaults (scene::RigCleanupOptions), for callers that cannot import the module
+  // when they declare their own defaults (the Blender add-on's properties: its tests compare).
+  py::dict defaults;
+  defaults["threshold"] = def.pin_threshold;
+  defaults["margin"] = def.pin_margin;
+  defaults["pose_weight"] = def.cleanup.pose_weight;
+  defaults["attraction_low"] = def.attraction_low;
+  defaults["keep"] = std::string(option_name(def.cleanup.keep));
+  defaults["max_iterations"] = def.cleanup.max_iterations;
+  defaults["tolerance"] = def.cleanup.tolerance;
+  defaults["warm_start"] = def.cleanup.warm_start;
+  m.attr("RIG_CLEANUP_DEFAULTS") = defaults;
   py::class_<PyRigCleanup>(m, "RigCleanup", R"doc(
 The pose-keeping cleanup of a skinned character with the rig defaults (scene/rig_cleanup.hpp): the one
 door shared by `spinmotor rig pose --cleanup pinned`, scene files, the viewer and the Blender add-on.
@@ -145,7 +157,7 @@ the cleanup refuses (named by its first vertex).
            }),
            py::arg("V"), py::arg("F"), py::arg("W"), py::arg("bones") = py::none(),
            py::arg("threshold") = def.pin_threshold, py::arg("margin") = def.pin_margin,
-           py::arg("pose_weight") = def.pose_weight,
+           py::arg("pose_weight") = def.cleanup.pose_weight,
            py::arg("keep") = std::string(option_name(def.cleanup.keep)),
            py::arg("max_iterations") = def.cleanup.max_iterations,
            py::arg("tolerance") = def.cleanup.tolerance, py::arg("warm_start") = def.cleanup.warm_start)

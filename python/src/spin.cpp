@@ -197,7 +197,7 @@ total_ms. V_edit (n, 3): the edit, same connectivity as the rest mesh. No factor
           const Eigen::VectorXi p = pins_from_weights(P, Wm, threshold, margin);
           return std::vector<int>(p.data(), p.data() + p.size());
         },
-        py::arg("V"), py::arg("W"), py::arg("threshold") = 0.999, py::arg("margin") = 0.0, R"doc(
+        py::arg("V"), py::arg("W"), py::arg("threshold") = kRigidWeight, py::arg("margin") = 0.0, R"doc(
 pins_from_weights(V, W, threshold=0.999, margin=0.0) -> pins: the vertices whose dominant skin weight
 (W: n×B) is at least `threshold` and that lie farther than `margin` from every vertex below it (the
 bones' rigid parts, each joint left room). Errors: spinmotor.Error naming the bad row or parameter.
@@ -207,7 +207,7 @@ bones' rigid parts, each joint left room). Errors: spinmotor.Error naming the ba
         [](py::object W, double threshold, double low) {
           return to_numpy(pin_attraction_from_weights(to_matrix(W, "W", -1, -1), threshold, low));
         },
-        py::arg("W"), py::arg("threshold") = 0.999, py::arg("low") = 0.5, R"doc(
+        py::arg("W"), py::arg("threshold") = kRigidWeight, py::arg("low") = kAttractionLow, R"doc(
 pin_attraction_from_weights(W, threshold=0.999, low=0.5) -> a (n,): the per-vertex weights of the
 cleanup's pose attraction from skin weights W (n×B): smoothstep of the dominant weight between `low`
 (0: the middle of a joint, left free) and `threshold` (1: rigid parts). Errors: spinmotor.Error naming

@@ -32,7 +32,7 @@ void check_options(const RigCleanupOptions& o) {
   if (!(o.pin_threshold >= 0.5 && o.pin_threshold <= 1.0))
     throw Error("rig cleanup: pin threshold " + std::to_string(o.pin_threshold) + " outside [0.5, 1]");
   if (!std::isfinite(o.pin_margin)) throw Error("rig cleanup: pin margin is not finite");
-  if (!(o.pose_weight >= 0) || !std::isfinite(o.pose_weight))
+  if (!(o.cleanup.pose_weight >= 0) || !std::isfinite(o.cleanup.pose_weight))
     throw Error("rig cleanup: pose weight must be a finite number ≥ 0");
   if (!(o.attraction_low >= 0 && o.attraction_low < o.pin_threshold))
     throw Error("rig cleanup: attraction_low must lie in [0, pin threshold)");
@@ -119,7 +119,7 @@ void RigCleanup::Impl::classify(const Mesh& rest, const Eigen::MatrixXd& W, cons
       piece.status = RigPieceStatus::Pinned;
     else if (rigid)
       piece.status = RigPieceStatus::Rigid;
-    else if (piece.pins == 0 && !(options.pose_weight > 0 && attracted > 0))
+    else if (piece.pins == 0 && !(options.cleanup.pose_weight > 0 && attracted > 0))
       piece.status = RigPieceStatus::Unanchored;
     else
       bind_piece(rest, faces[p], p, label);
@@ -149,7 +149,6 @@ void RigCleanup::Impl::bind_piece(const Mesh& rest, const std::vector<Eigen::Ind
     if (local[i] >= 0) sub_pins.push_back(local[i]);
   const bool closed = boundary_vertices(sub.F, sub.V.rows()).size() == 0 && balanced(sub.F);
   PinnedCleanupOptions o = options.cleanup;
-  o.pose_weight = options.pose_weight;
   if (o.keep == CleanupKeep::Auto || (o.keep == CleanupKeep::Volume && !closed))
     o.keep = closed ? CleanupKeep::Volume : CleanupKeep::Area;
   try {
@@ -192,8 +191,9 @@ RigCleanup RigCleanup::bind(const Mesh& rest, const Eigen::MatrixXd& W, std::spa
   m.margins = options.pin_margin >= 0 ? Eigen::VectorXd::Constant(W.cols(), options.pin_margin)
                                       : default_pin_margins(rest.V, W, bones, threshold);
   m.pins = pins_from_weights(rest.V, W, threshold, m.margins);
-  m.attraction = options.pose_weight > 0 ? pin_attraction_from_weights(W, threshold, options.attraction_low)
-                                         : Eigen::VectorXd::Zero(W.rows());
+  m.attraction = options.cleanup.pose_weight > 0
+                     ? pin_attraction_from_weights(W, threshold, options.attraction_low)
+                     : Eigen::VectorXd::Zero(W.rows());
   m.classify(rest, W, label);
   m.bind_ms = ms_since(t0);
   return out;

@@ -84,11 +84,11 @@ SceneRunner::Impl::Impl(const Scene& s) : scene(s) {
         RigCleanupOptions ro;
         ro.pin_threshold = scene.snap.pin_threshold;
         ro.pin_margin = scene.snap.pin_margin;
-        ro.pose_weight = scene.snap.pose_weight.value_or(ro.pose_weight);
+        o.pose_weight = scene.snap.pose_weight.value_or(ro.cleanup.pose_weight);
         ro.cleanup = o;
         rig_cleaner.emplace(RigCleanup::bind(scene.mesh, d->skin()->weights, d->skin()->bones, ro));
       } else {
-        o.pose_weight = scene.snap.pose_weight.value_or(0.0);
+        o.pose_weight = scene.snap.pose_weight.value_or(PinnedCleanupOptions{}.pose_weight);
         cleaner.emplace(PinnedCleanup::bind(scene.mesh, pins, o));
       }
     } catch (const Error& e) {
@@ -121,7 +121,7 @@ json SceneRunner::Impl::clean(std::size_t f, FrameResult& fr) {
       bind = rig_cleaner->bind_ms();
       out.update({{"pins", rig_cleaner->pins().size()},
                   {"keep", "per piece"},
-                  {"pose_weight", rig_cleaner->options().pose_weight},
+                  {"pose_weight", rig_cleaner->options().cleanup.pose_weight},
                   {"measure_ratio", r.volume_ratio},
                   {"edit_measure_ratio", r.edit_volume_ratio},
                   {"pin_error", r.pin_error},

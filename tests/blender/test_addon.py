@@ -763,6 +763,28 @@ def test_ui(addon):
     assert any(c[0] == "label" and c[1].startswith("spinmotor 0.1") for c in layout.calls), layout.calls
 
 
+def test_defaults(sm, addon):
+    """The add-on's property defaults are the library's rig defaults (scene::RigCleanupOptions), on the
+    operator and on the panel's settings."""
+    lib = sm.RIG_CLEANUP_DEFAULTS
+    for k, v in addon.ops.RIG_DEFAULTS.items():
+        assert lib[k] == v, (k, v, lib[k])
+    props = bpy.ops.spinmotor.bake_cleanup.get_rna_type().properties
+    settings = bpy.context.scene.spinmotor.bl_rna.properties
+    for k in ("threshold", "pose_weight", "keep", "max_iterations"):
+        assert props[k].default == near(lib[k]), (k, props[k].default, lib[k])
+    for k in ("threshold", "pose_weight", "keep"):
+        assert settings[k].default == near(lib[k]), (k, settings[k].default, lib[k])
+
+
+def near(v):
+    """Blender stores float properties in single precision: compare floats to that."""
+    class Near:
+        def __eq__(self, other):
+            return abs(other - v) <= 1e-6 * max(1.0, abs(v)) if isinstance(v, float) else other == v
+    return Near()
+
+
 def test_gltf_import(sm):
     """Blender's own glTF importer reads the morph-target animation the project bakes (rig pose --out .glb,
     Rig.bake, write_gltf_morph_animation): one shape key per frame, holding the frame's positions (float32).
@@ -831,6 +853,8 @@ def main():
     print("spinmotor module:", sm.__file__)
     print("test_ui")
     test_ui(addon)
+    print("test_defaults")
+    test_defaults(sm, addon)
     print("test_bake_cleanup")
     ob, rig, V0, F, E, V = test_bake_cleanup(sm, addon)
     print("test_frame_range")

@@ -1007,7 +1007,7 @@ TEST_CASE("spinmotor rig on CesiumMan: info numbers, a baked glb and the CLI cle
     INFO(r.err);
     REQUIRE(r.code == 0);
     spinmotor::scene::RigCleanupOptions o;
-    o.pose_weight = gamma;
+    o.cleanup.pose_weight = gamma;
     spinmotor::scene::RigCleanup rc =
         spinmotor::scene::RigCleanup::bind(skin.rest, skin.weights, skin.bones, o);
     Eigen::MatrixXd E, V;

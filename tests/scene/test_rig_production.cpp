@@ -208,7 +208,7 @@ TEST_CASE("rig cleanup: every piece of a many-piece, non-manifold surface gets a
   CHECK_THROWS_WITH(compute_metrics(p.mesh.V, p.mesh.F, V, mo), Catch::Contains("degenerate"));
 
   // γ = 0: the cape has nothing to hold it either; still no abort.
-  o.pose_weight = 0;
+  o.cleanup.pose_weight = 0;
   scene::RigCleanup rc0 = scene::RigCleanup::bind(p.mesh, p.W, p.bones, o);
   CHECK(rc0.pieces()[piece_of(p.ranges[3].first)].status == RigPieceStatus::Unanchored);
   CHECK(rc0.pieces()[piece_of(p.ranges[0].first)].status == RigPieceStatus::Cleaned);

@@ -409,7 +409,8 @@ TEST_CASE(
   const Arm a = make_arm(40, 24);
   const RigCleanupOptions def;
   CHECK(def.pin_threshold == 0.999);
-  CHECK(def.pose_weight == 10);
+  CHECK(def.cleanup.pose_weight == 10);
+  CHECK(PinnedCleanupOptions{}.pose_weight == 0);  // handle pins alone: no attraction by default
   RigCleanup rc = RigCleanup::bind(a.mesh, a.W, a.bones);
   const Eigen::VectorXd margins = default_pin_margins(a.mesh.V, a.W, a.bones, 0.999);
   CHECK(rc.margins() == margins);
@@ -437,7 +438,7 @@ TEST_CASE(
   CHECK(max_pin_error(V1, E, rc.pins()) == 0);
   // The attraction keeps it nearer the pose than the pins alone, and both beat LBS on Q.
   RigCleanupOptions pins_only;
-  pins_only.pose_weight = 0;
+  pins_only.cleanup.pose_weight = 0;
   RigCleanup rc0 = RigCleanup::bind(a.mesh, a.W, a.bones, pins_only);
   Eigen::MatrixXd V0;
   rc0(E, V0);
@@ -456,20 +457,20 @@ TEST_CASE(
   // kept as skinned (never an abort); with the attraction it is anchored and cleaned.
   RigCleanupOptions far;
   far.pin_margin = 100;
-  far.pose_weight = 0;
+  far.cleanup.pose_weight = 0;
   RigCleanup unanchored = RigCleanup::bind(a.mesh, a.W, a.bones, far);
   CHECK(unanchored.pins().size() == 0);
   CHECK(unanchored.pieces()[0].status == spinmotor::scene::RigPieceStatus::Unanchored);
   Eigen::MatrixXd Vu;
   unanchored(E, Vu);
   CHECK(Vu == E);
-  far.pose_weight = 10;
+  far.cleanup.pose_weight = 10;
   RigCleanup attracted = RigCleanup::bind(a.mesh, a.W, a.bones, far);
   CHECK(attracted.pieces()[0].status == spinmotor::scene::RigPieceStatus::Cleaned);
   attracted(E, Vu);
   CHECK(quality(a.mesh.V, a.mesh.F, Vu).q_mean < quality(a.mesh.V, a.mesh.F, E).q_mean - 0.05);
   RigCleanupOptions neg;
-  neg.pose_weight = -1;
+  neg.cleanup.pose_weight = -1;
   CHECK_THROWS_WITH(RigCleanup::bind(a.mesh, a.W, a.bones, neg), Catch::Contains("pose weight"));
   RigCleanupOptions low;
   low.pin_threshold = 0.4;
@@ -485,7 +486,7 @@ TEST_CASE("RigCleanup on CesiumMan: conformal, near the pose, volume kept (Cesiu
   spinmotor::RigSkinner(rig, SkinBlend::LBS).pose(0, 1.0, E);
   RigCleanup rc = RigCleanup::bind(skin.rest, skin.weights, skin.bones);
   RigCleanupOptions pins_only;
-  pins_only.pose_weight = 0;
+  pins_only.cleanup.pose_weight = 0;
   RigCleanup rc0 = RigCleanup::bind(skin.rest, skin.weights, skin.bones, pins_only);
   Eigen::MatrixXd V, V0;
   rc(E, V);

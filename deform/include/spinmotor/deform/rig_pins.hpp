@@ -33,11 +33,17 @@
 
 namespace spinmotor {
 
+/// The dominant weight from which one bone moves a vertex rigidly: the default pin threshold of every
+/// rig cleanup (scene/rig_cleanup.hpp, a scene's "pins": "weights", Python, the Blender add-on).
+inline constexpr double kRigidWeight = 0.999;
+/// The dominant weight at and below which the pose attraction lets a vertex go (the middle of a joint).
+inline constexpr double kAttractionLow = 0.5;
+
 /// Inputs: V (n×3 rest positions), W (n×B weights ≥ 0, finite, every row with a positive entry),
 /// threshold in (0, 1], margin ≥ 0 (0: no distance test). Output: the pins, increasing. Throws Error
 /// naming the bad vertex (row) or parameter.
 Eigen::VectorXi pins_from_weights(const Eigen::MatrixXd& V, const Eigen::MatrixXd& W,
-                                  double threshold = 0.999, double margin = 0.0);
+                                  double threshold = kRigidWeight, double margin = 0.0);
 
 /// One joint's blend band (see the header comment).
 struct JointBlend {
@@ -50,7 +56,7 @@ struct JointBlend {
 /// Output: the joints with at least one blended vertex, ordered by (bone_a, bone_b). Throws as
 /// pins_from_weights, and for bones.size() ≠ B.
 std::vector<JointBlend> joint_blend_bands(const Eigen::MatrixXd& V, const Eigen::MatrixXd& W,
-                                          std::span<const Bone> bones, double threshold = 0.999);
+                                          std::span<const Bone> bones, double threshold = kRigidWeight);
 
 /// Per-bone margins: a candidate pin dominated by bone b must lie farther than margins[b] from every
 /// blended vertex. Inputs as above, margins (B values ≥ 0). Output: the pins, increasing.
@@ -61,7 +67,7 @@ Eigen::VectorXi pins_from_weights(const Eigen::MatrixXd& V, const Eigen::MatrixX
 /// bone in no joint) — each joint gets room in proportion to its own band, where default_pin_margin
 /// gives every joint the room of the widest one (on CesiumMan it pins 50 of the 313 rigid vertices).
 Eigen::VectorXd default_pin_margins(const Eigen::MatrixXd& V, const Eigen::MatrixXd& W,
-                                    std::span<const Bone> bones, double threshold = 0.999);
+                                    std::span<const Bone> bones, double threshold = kRigidWeight);
 
 /// Per-vertex weights of the cleanup's pose attraction (spin/pinned_cleanup.hpp, bind's `attraction`):
 /// a_i = smoothstep(t), t = clamp((w*(i) − low) / (threshold − low), 0, 1) with w* the normalised dominant
@@ -69,11 +75,11 @@ Eigen::VectorXd default_pin_margins(const Eigen::MatrixXd& V, const Eigen::Matri
 /// equally (w* ≤ low, the middle of a joint, where LBS collapses and the cleanup must be free), smooth
 /// between. Inputs: W (n×B, as pins_from_weights), threshold in (0, 1], low in [0, threshold).
 /// Output: n values in [0, 1]. Throws Error naming the bad vertex or parameter.
-Eigen::VectorXd pin_attraction_from_weights(const Eigen::MatrixXd& W, double threshold = 0.999,
-                                            double low = 0.5);
+Eigen::VectorXd pin_attraction_from_weights(const Eigen::MatrixXd& W, double threshold = kRigidWeight,
+                                            double low = kAttractionLow);
 
 /// A quarter of the largest joint blend width (0 when no vertex is blended).
 double default_pin_margin(const Eigen::MatrixXd& V, const Eigen::MatrixXd& W, std::span<const Bone> bones,
-                          double threshold = 0.999);
+                          double threshold = kRigidWeight);
 
 }  // namespace spinmotor

@@ -38,21 +38,32 @@
 #include <vector>
 
 #include "spinmotor/core/option_names.hpp"
+#include "spinmotor/deform/rig_pins.hpp"
 #include "spinmotor/deform/skinning.hpp"
 #include "spinmotor/mesh/mesh.hpp"
 #include "spinmotor/spin/pinned_cleanup.hpp"
 
 namespace spinmotor::scene {
 
+/// The rig's γ of the pose attraction (header comment). PinnedCleanup on its own, pinned by handles,
+/// defaults to 0; a rig's soft parts need the attraction.
+inline constexpr double kRigPoseWeight = 10;
+
+/// The cleanup's options with the rig's γ.
+inline PinnedCleanupOptions rig_pinned_cleanup_options() {
+  PinnedCleanupOptions o;
+  o.pose_weight = kRigPoseWeight;
+  return o;
+}
+
 /// The rig defaults: one home for every option of the rig cleanup and its default.
 struct RigCleanupOptions {
-  double pin_threshold = 0.999;  ///< pins: dominant weight ≥ this (rig_pins.hpp), in [0.5, 1]
-  double pin_margin = -1;   ///< pins: distance to the blended vertices; < 0: per bone (default_pin_margins)
-  double pose_weight = 10;  ///< γ of the pose attraction (0: the pins only)
-  double attraction_low = 0.5;  ///< dominant weight at and below which a vertex is not attracted
-  /// The cleanup's own options (iterations, tolerance, warm start, keep, …). Its pose_weight is not read:
-  /// the one above is the rig's.
-  PinnedCleanupOptions cleanup;
+  double pin_threshold = kRigidWeight;  ///< pins: dominant weight ≥ this (rig_pins.hpp), in [0.5, 1]
+  double pin_margin = -1;  ///< pins: distance to the blended vertices; < 0: per bone (default_pin_margins)
+  double attraction_low = kAttractionLow;  ///< dominant weight at and below which a vertex is not attracted
+  /// The cleanup's options: iterations, tolerance, warm start, keep, and γ of the pose attraction
+  /// (cleanup.pose_weight, kRigPoseWeight by default; 0: the pins only).
+  PinnedCleanupOptions cleanup = rig_pinned_cleanup_options();
 };
 
 enum class RigPieceStatus { Cleaned, Rigid, Pinned, Unanchored };

@@ -26,6 +26,7 @@
 #include "spinmotor/core/error.hpp"
 #include "spinmotor/deform/deformer.hpp"
 #include "spinmotor/deform/gltf_skin.hpp"
+#include "spinmotor/deform/rig_pins.hpp"
 #include "spinmotor/ga.hpp"
 #include "spinmotor/mesh/gltf.hpp"
 #include "spinmotor/mesh/mesh.hpp"
@@ -75,7 +76,7 @@ struct SnapSpec {
   /// pinned mode, "pins": "weights": the rigid parts of the skin deformer's weights (rig_pins.hpp)
   /// instead of handles, with pin_threshold and pin_margin (< 0: default_pin_margins).
   bool pin_weights = false;
-  double pin_threshold = 0.999;
+  double pin_threshold = kRigidWeight;
   double pin_margin = -1;
   double tradeoff = 1.0;       ///< spin mode: similarities (0) … integrable spin transformation (1)
   int smooth_rho = 0;          ///< spin mode: Laplacian smoothing passes of the fitted ρ
