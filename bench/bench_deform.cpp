@@ -255,7 +255,7 @@ void BM_pose(benchmark::State& state) {
 BENCHMARK(BM_pose)
     ->Arg(static_cast<int>(ga::Blend::Log))
     ->Arg(static_cast<int>(ga::Blend::PivotLog))
-    ->Arg(static_cast<int>(ga::Blend::Linear))
+    ->Arg(static_cast<int>(ga::Blend::DLB))
     ->Unit(benchmark::kMillisecond)
     ->MinTime(1.0)
     ->UseRealTime();

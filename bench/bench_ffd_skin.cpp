@@ -63,7 +63,7 @@ void BM_ffd_pose(benchmark::State& state) {
   o.basis = bspline ? FfdDeformer::Basis::BSpline : FfdDeformer::Basis::Bezier;
   o.lattice = bspline ? std::array<int, 3>{8, 8, 8} : std::array<int, 3>{4, 4, 4};
   o.mode = state.range(1) == 0 ? FfdDeformer::Mode::Position : FfdDeformer::Mode::Motor;
-  o.blend = state.range(1) == 2 ? ga::Blend::Linear : ga::Blend::Log;
+  o.blend = state.range(1) == 2 ? ga::Blend::DLB : ga::Blend::Log;
   FfdDeformer d = FfdDeformer::bind(m, o);
   FfdDeformer::Options po = o;
   po.mode = FfdDeformer::Mode::Position;
@@ -135,7 +135,7 @@ const SkinSetup& skin_setup() {
 void BM_skin_pose(benchmark::State& state) {
   const Mesh& m = tube_1m();
   const SkinSetup& s = skin_setup();
-  const SkinDeformer::Blend blends[] = {SkinDeformer::Blend::LBS, SkinDeformer::Blend::Linear,
+  const SkinDeformer::Blend blends[] = {SkinDeformer::Blend::LBS, SkinDeformer::Blend::DLB,
                                         SkinDeformer::Blend::Log, SkinDeformer::Blend::PivotLog};
   SkinDeformer d = SkinDeformer::bind(m, s.bones, s.W, {blends[state.range(0)]});
   SkinDeformer lbs = SkinDeformer::bind(m, s.bones, s.W, {SkinDeformer::Blend::LBS});

@@ -244,7 +244,7 @@ void run_blend(benchmark::State& state, Blend mode) {
 }
 void ga_blend4_log(benchmark::State& s) { run_blend(s, Blend::Log); }
 void ga_blend4_pivotlog(benchmark::State& s) { run_blend(s, Blend::PivotLog); }
-void ga_blend4_linear(benchmark::State& s) { run_blend(s, Blend::Linear); }
+void ga_blend4_linear(benchmark::State& s) { run_blend(s, Blend::DLB); }
 
 // The paper's blend when the motors are shared handles: their logs are computed once, per vertex
 // only exp(Σ w_i B_i) remains.

@@ -91,7 +91,7 @@ void BM_rig_pose(benchmark::State& state) {
     state.SkipWithError("../shared/rigs/CesiumMan.gltf not found");
     return;
   }
-  const SkinBlend blends[] = {SkinBlend::LBS, SkinBlend::Linear, SkinBlend::Log, SkinBlend::PivotLog};
+  const SkinBlend blends[] = {SkinBlend::LBS, SkinBlend::DLB, SkinBlend::Log, SkinBlend::PivotLog};
   RigSkinner d(*r, blends[state.range(1)]);
   Eigen::MatrixXd V, Vb;
   // The baseline: the median of 30 frames (after one warm-up).

@@ -5,7 +5,7 @@
 // width 2: the lower bone's weight a smoothstep over z ∈ [2, 4]) bent 90° and 120° at the elbow,
 // twisted 90° and 180° about the forearm, and bent 90° + twisted 90°; a sausage (icosphere level 4,
 // z × 3) bent 90° by a closed-form circular bend with its end caps (|z| > 2.4) rigid.
-// Methods, per arm case: LBS; DQS (dual-quaternion linear blend, SkinDeformer::Blend::Linear); Delta
+// Methods, per arm case: LBS; DQS (dual-quaternion linear blend, SkinDeformer::Blend::DLB); Delta
 // Mush on LBS (Mancewicz et al. 2014: 10 uniform sweeps, λ = 0.5); Direct Delta Mush (Le & Lewis
 // 2019, variant 0); the §7.2 conformal snap of LBS (Crane et al. 2011); the pose-keeping cleanup of LBS
 // (spin/pinned_cleanup.hpp) with the pins of the rig (vertices of one bone, weight ≥ 0.999, farther
@@ -136,7 +136,7 @@ void arm_study(bool small, std::vector<Row>& rows) {
   bones[1] = {.name = "lower", .parent = 0, .head = {0, 0, 3}, .tail = {0, 0, 7}};
   const Eigen::VectorXi pins = pins_from_weights(arm.V, W, kRigidWeight, 0.5);
   SkinDeformer lbs = SkinDeformer::bind(arm, bones, W, {.blend = SkinBlend::LBS});
-  SkinDeformer dqs = SkinDeformer::bind(arm, bones, W, {.blend = SkinBlend::Linear});
+  SkinDeformer dqs = SkinDeformer::bind(arm, bones, W, {.blend = SkinBlend::DLB});
   DeltaMushDeformer dm = DeltaMushDeformer::bind(arm, bones, W, DeltaMushDeformer::Options{});
   DirectDeltaMushDeformer ddm =
       DirectDeltaMushDeformer::bind(arm, bones, W, DirectDeltaMushDeformer::Options{});
@@ -207,20 +207,20 @@ void rig_study(const std::filesystem::path& dir, const std::filesystem::path& ou
   for (const char* file : {"RiggedFigure.gltf", "CesiumMan.gltf"}) {
     const GltfRig rig = read_gltf(dir / file);
     const RigSkin skin = rig_skin(rig);
-    const Eigen::MatrixXd W(skin.weights);
+    const Eigen::MatrixXd W(skin.rig.weights);
     const Mesh& rest = skin.rest;  // scene coordinates, the bones' frame
     const Eigen::VectorXi pins =
-        pins_from_weights(rest.V, W, kRigidWeight, default_pin_margins(rest.V, W, skin.bones));
-    SkinDeformer lbs = SkinDeformer::bind(rest, skin.bones, W, {.blend = SkinBlend::LBS});
-    SkinDeformer dqs = SkinDeformer::bind(rest, skin.bones, W, {.blend = SkinBlend::Linear});
-    DeltaMushDeformer dm = DeltaMushDeformer::bind(rest, skin.bones, W, DeltaMushDeformer::Options{});
+        pins_from_weights(rest.V, W, kRigidWeight, default_pin_margins(rest.V, W, skin.rig.skeleton));
+    SkinDeformer lbs = SkinDeformer::bind(rest, skin.rig, {.blend = SkinBlend::LBS});
+    SkinDeformer dqs = SkinDeformer::bind(rest, skin.rig, {.blend = SkinBlend::DLB});
+    DeltaMushDeformer dm = DeltaMushDeformer::bind(rest, skin.rig, DeltaMushDeformer::Options{});
     DirectDeltaMushDeformer ddm =
-        DirectDeltaMushDeformer::bind(rest, skin.bones, W, DirectDeltaMushDeformer::Options{});
+        DirectDeltaMushDeformer::bind(rest, skin.rig, DirectDeltaMushDeformer::Options{});
     PinnedCleanup cleanup = PinnedCleanup::bind(rest, pins);
     // Soft-weighted rigs (CesiumMan: 313 of 2338 vertices reach 0.999 at all) pin little, and the
     // cleanup drifts from the pose; the rig defaults (scene/rig_cleanup.hpp: the same pins, the rest
     // held near the pose by the weights' attraction, γ = 10) keep it.
-    scene::RigCleanup rig_default = scene::RigCleanup::bind(rest, W, skin.bones);
+    scene::RigCleanup rig_default = scene::RigCleanup::bind(rest, W, skin.rig.skeleton);
     PinnedCleanupOptions ao;
     ao.pose_weight = g_pose_weight;
     PinnedCleanup attracted = PinnedCleanup::bind(rest, pins, ao, pin_attraction_from_weights(W));

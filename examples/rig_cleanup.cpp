@@ -90,7 +90,7 @@ int run(int argc, char** argv) {
     SkinDeformer::Blend blend;
   };
   const Row rows[] = {{"lbs", SkinDeformer::Blend::LBS},
-                      {"dlb", SkinDeformer::Blend::Linear},
+                      {"dlb", SkinDeformer::Blend::DLB},
                       {"log", SkinDeformer::Blend::Log}};
   nlohmann::json report = {{"example", "rig_cleanup"},
                            {"mesh", {{"vertices", arm.V.rows()}, {"faces", arm.F.rows()}}},

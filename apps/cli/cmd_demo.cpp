@@ -377,7 +377,7 @@ void stage_gltf_rig(Demo& d) {
   po.animation = walk;
   po.blend = SkinBlend::LBS;
   scene::RigPoser lbs_poser(rig, po);
-  po.blend = SkinBlend::Linear;
+  po.blend = SkinBlend::DLB;
   scene::RigPoser dlb_poser(rig, po);
   const Mesh& rest = lbs_poser.rig_skin().rest;
   Mesh lbs = rest, dlb = rest;

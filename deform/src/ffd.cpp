@@ -27,7 +27,7 @@ double greville(int a, int count, int d) {
 
 /// Σ over the supporting controls of w_abc · lanes[index(abc)] for one vertex: the tensor contraction of
 /// eq. 6, innermost axis first. O > 0: every axis has O non-zero functions (unrolled); O = 0: runtime.
-/// `sign` (Linear) multiplies control c's lane by its sign relative to the pivot.
+/// `sign` (DLB) multiplies control c's lane by its sign relative to the pivot.
 template <int O, class Lane, bool Signed>
 [[gnu::always_inline]] inline Lane contract(const Lane* lanes, const std::array<int, 3>& dims,
                                             const std::array<int, 3>& order, const std::array<int, 3>& start,
@@ -56,9 +56,9 @@ template <int O, class Lane, bool Signed>
   return acc;
 }
 
-enum class Kernel { Position, Log, Linear };
+enum class Kernel { Position, Log, DLB };
 
-/// The Position and Linear kernels, vertex by vertex (Log: run_log below).
+/// The Position and DLB kernels, vertex by vertex (Log: run_log below).
 template <int O, Kernel K>
 void run(const Eigen::MatrixXd& P, const std::vector<unsigned char>& inside,
          const std::vector<std::array<int, 3>>& start, const std::vector<double>& basis,
@@ -175,7 +175,7 @@ FfdDeformer FfdDeformer::bind(const Eigen::MatrixXd& V, const Options& options) 
   f.options_ = options;
   f.dims_ = options.lattice;
   const Eigen::Index L = static_cast<Eigen::Index>(f.dims_[0]) * f.dims_[1] * f.dims_[2];
-  if (options.mode == Mode::Motor && options.blend == ga::Blend::Linear && L > 2048)
+  if (options.mode == Mode::Motor && options.blend == ga::Blend::DLB && L > 2048)
     throw Error("FfdDeformer: the dlb blend is limited to 2048 controls (" + std::to_string(L) + " given)");
   for (int a = 0; a < 3; ++a) {
     if (options.basis == Basis::Bezier && f.dims_[a] > 32)
@@ -217,7 +217,7 @@ FfdDeformer FfdDeformer::bind(const Eigen::MatrixXd& V, const Options& options) 
   f.start_.assign(n, {0, 0, 0});
   f.basis_.assign(n * stride, 0.0);
   f.inside_.assign(n, 0);
-  if (options.mode == Mode::Motor && options.blend == ga::Blend::Linear) f.pivot_.assign(n, 0);
+  if (options.mode == Mode::Motor && options.blend == ga::Blend::DLB) f.pivot_.assign(n, 0);
   const Eigen::Vector3d lo = f.box_.min(), inv = f.box_.sizes().cwiseInverse();
   Eigen::Index outside = 0;
 #pragma omp parallel for schedule(static) if (parallel::worth(n, parallel::kMotorBlend)) reduction(+ : outside)
@@ -289,8 +289,8 @@ void FfdDeformer::pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_out) 
       for (Eigen::Index j = 0; j < L; ++j)
         signs_[p * L + j] = std::signbit(ga::scalar(motors_[j], rp)) ? -1 : 1;
     }
-    dispatch<Kernel::Linear>(P_, inside_, start_, basis_, dims_, order_, lanes_.data(), signs_.data(), pivot_,
-                             V_out);
+    dispatch<Kernel::DLB>(P_, inside_, start_, basis_, dims_, order_, lanes_.data(), signs_.data(), pivot_,
+                          V_out);
   }
 }
 
@@ -350,7 +350,7 @@ ga::Mot FfdDeformer::vertex_motor(Eigen::Index i, std::span<const ga::Mot> motor
         m.push_back(motors[index(start_[i][0] + a, start_[i][1] + b, start_[i][2] + c)]);
         w.push_back(bu[a] * bv[b] * bw[c]);
       }
-  return ga::blend(m, w, options_.blend == ga::Blend::Linear ? ga::Blend::Linear : ga::Blend::Log);
+  return ga::blend(m, w, options_.blend == ga::Blend::DLB ? ga::Blend::DLB : ga::Blend::Log);
 }
 
 }  // namespace spinmotor

@@ -112,18 +112,18 @@ RigSkin rig_skin(const GltfRig& rig) {
     block = ((block * L.transpose()).rowwise() + B.topRightCorner<3, 1>().transpose()).eval();
     for (const Eigen::MatrixXd& d : piece.targets) out.targets[p].push_back(d * L.transpose());
   }
-  out.bones.resize(J);
+  out.rig.skeleton.resize(J);
   std::set<std::string> used;
   std::vector<Eigen::Matrix4d> frame(J);
   for (int j = 0; j < J; ++j) {
     std::string name = rig.joint_names[j];
     if (name.empty() || used.count(name)) name.append(1, '#').append(std::to_string(j));
     used.insert(name);
-    out.bones[j].name = name;
-    out.bones[j].parent = rig.joint_parents[j];
+    out.rig.skeleton[j].name = name;
+    out.rig.skeleton[j].parent = rig.joint_parents[j];
     frame[j] =
         out.bind[rig.joint_skins[j]] * affine_inverse(rig.inverse_bind[j]);  // the joint at the bind pose
-    out.bones[j].head = frame[j].topRightCorner<3, 1>();
+    out.rig.skeleton[j].head = frame[j].topRightCorner<3, 1>();
   }
   const double diag = diagonal(out.rest.V);
   const double tiny = 1e-9 * std::max(diag, 1e-300);
@@ -131,9 +131,9 @@ RigSkin rig_skin(const GltfRig& rig) {
   // Tails from the first child joint, in joint order; leaves afterwards (they need their parent's length).
   for (int j = 0; j < J; ++j)
     for (int c = 0; c < J; ++c)
-      if (rig.joint_parents[c] == j && (out.bones[c].head - out.bones[j].head).norm() > tiny) {
-        out.bones[j].tail = out.bones[c].head;
-        length[j] = (out.bones[c].head - out.bones[j].head).norm();
+      if (rig.joint_parents[c] == j && (out.rig.skeleton[c].head - out.rig.skeleton[j].head).norm() > tiny) {
+        out.rig.skeleton[j].tail = out.rig.skeleton[c].head;
+        length[j] = (out.rig.skeleton[c].head - out.rig.skeleton[j].head).norm();
         break;
       }
   for (int j = 0; j < J; ++j) {
@@ -142,10 +142,10 @@ RigSkin rig_skin(const GltfRig& rig) {
     const double l = p >= 0 && length[p] > 0.0 ? length[p] : 0.1 * (diag > 0.0 ? diag : 1.0);
     Eigen::Vector3d y = frame[j].block<3, 1>(0, 1);
     y = y.norm() > 0 ? Eigen::Vector3d(y.normalized()) : Eigen::Vector3d::UnitY();
-    out.bones[j].tail = out.bones[j].head + l * y;
+    out.rig.skeleton[j].tail = out.rig.skeleton[j].head + l * y;
   }
-  check_skeleton(out.bones);
-  out.weights = rig.weights;
+  check_skeleton(out.rig.skeleton);
+  out.rig.weights = rig.weights;
   return out;
 }
 
@@ -179,7 +179,7 @@ RigSkinner::RigSkinner(const GltfRig& rig, SkinBlend blend) : rig_(&rig), skin_(
   SkinDeformer::Options o;
   o.blend = blend;
   o.max_influences = 0;  // every influence (Log and PivotLog keep 4)
-  deformer_ = SkinDeformer::bind(skin_.rest, skin_.bones, skin_.weights, o);
+  deformer_ = SkinDeformer::bind(skin_.rest, skin_.rig, o);
 }
 
 void RigSkinner::pose(int anim, double t, Eigen::MatrixXd& V_out) {

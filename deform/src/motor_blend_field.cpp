@@ -100,7 +100,7 @@ template <ga::Blend Mode>
   V_out.col(2).segment<4>(i0).array() = pz + s2 * (rw * az + bz + rw * dz - d0 * vz + cz);
 }
 
-/// The Linear pose: blocks of four vertices, the last n mod 4 one by one.
+/// The DLB pose: blocks of four vertices, the last n mod 4 one by one.
 void run_linear_pose(const MotorBlendField::Weights& W, const Eigen::MatrixXd& P,
                      const Eigen::VectorXi& pivot, const std::vector<ga::Mot>& motors,
                      const std::vector<double>& signs, Eigen::MatrixXd& V_out) {
@@ -143,13 +143,13 @@ void dispatch(ga::Blend mode, const MotorBlendField::Weights& W, const Eigen::Ma
       return run_field<ga::Blend::Log>(W, P, pivot, logs, motors, signs, inverse, out);
     case ga::Blend::PivotLog:
       return run_field<ga::Blend::PivotLog>(W, P, pivot, logs, motors, signs, inverse, out);
-    case ga::Blend::Linear:
+    case ga::Blend::DLB:
     default:
-      return run_field<ga::Blend::Linear>(W, P, pivot, logs, motors, signs, inverse, out);
+      return run_field<ga::Blend::DLB>(W, P, pivot, logs, motors, signs, inverse, out);
   }
 }
 
-/// After a Linear blend: the first vertex whose blended motor cancelled (only with negative weights).
+/// After a DLB blend: the first vertex whose blended motor cancelled (only with negative weights).
 void check_finite_output(const Eigen::MatrixXd& V) {
   if (V.allFinite()) return;
   for (Eigen::Index i = 0; i < V.rows(); ++i)
@@ -196,7 +196,7 @@ MotorBlendField MotorBlendField::bind(const Eigen::MatrixXd& V_rest, Weights W, 
   }
   f.logs_.resize(mode == ga::Blend::PivotLog ? k * k : k);
   f.motors_.resize(k);
-  f.signs_.resize(mode == ga::Blend::Linear ? k * k : 0);
+  f.signs_.resize(mode == ga::Blend::DLB ? k * k : 0);
   if (!rest_motors.empty()) {  // §III.A: bind the rest pose, p'_i = ~M_i^0 p_i M_i^0
     f.prepare(rest_motors);
     const Eigen::MatrixXd P0 = f.P_;
@@ -228,7 +228,7 @@ void MotorBlendField::prepare(std::span<const ga::Mot> motors) {
           logs_[p * k + j] = j == p ? ga::Dll{} : ga::log(motors_[j] * inv);
       }
       break;
-    case ga::Blend::Linear:
+    case ga::Blend::DLB:
       for (Eigen::Index p = 0; p < k; ++p) {
         const ga::Mot rp = ga::reverse(motors_[p]);
         for (Eigen::Index j = 0; j < k; ++j)
@@ -242,7 +242,7 @@ void MotorBlendField::pose(std::span<const ga::Mot> motors, Eigen::MatrixXd& V_o
   prepare(motors);
   const Eigen::Index n = vertices();
   if (V_out.rows() != n || V_out.cols() != 3) V_out.resize(n, 3);
-  if (mode_ == ga::Blend::Linear) {
+  if (mode_ == ga::Blend::DLB) {
     run_linear_pose(W_, P_, pivot_, motors_, signs_, V_out);
     check_finite_output(V_out);
     return;

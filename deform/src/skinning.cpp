@@ -286,7 +286,7 @@ SkinDeformer SkinDeformer::bind_rows(const Mesh& rest, std::span<const Bone> bon
   d.matrices_.resize(B);
   d.stretch_.resize(B);
   d.logs_.resize(options.blend == Blend::PivotLog ? B * B : B);
-  d.signs_.resize(options.blend == Blend::Linear ? B * B : 0);
+  d.signs_.resize(options.blend == Blend::DLB ? B * B : 0);
   for (const Bone& b : bones) d.controls_.push_back({b.name, b.head});
   return d;
 }
@@ -317,7 +317,7 @@ void SkinDeformer::prepare_blend() {
           logs_[p * B + j] = j == p ? ga::Dll{} : ga::log(motions_[j] * inv);
       }
       break;
-    case Blend::Linear:
+    case Blend::DLB:
       for (std::size_t p = 0; p < B; ++p) {
         const ga::Mot rp = ga::reverse(motions_[p]);
         for (std::size_t j = 0; j < B; ++j)
@@ -405,8 +405,7 @@ void SkinDeformer::blend_lbs(const Eigen::MatrixXd& P, const Eigen::Matrix<doubl
 void SkinDeformer::blend_motors(const Eigen::MatrixXd& P, Eigen::MatrixXd& V_out) const {
   const Eigen::Index n = vertices(), B = static_cast<Eigen::Index>(bones_.size());
   const Influence* inf = inf_.data();
-  if (options_.blend ==
-      Blend::Linear) {  // Σ_j s_pj w_ij K_j bone by bone over blocks, then dlb_point's formula
+  if (options_.blend == Blend::DLB) {  // Σ_j s_pj w_ij K_j bone by bone over blocks, then dlb_point's formula
     const ga::Mot* K = motions_.data();
     const double* S = signs_.data();
     const Eigen::Index blocks = (n + kLbsBlock - 1) / kLbsBlock;
@@ -486,7 +485,7 @@ ga::Mot SkinDeformer::vertex_motor(Eigen::Index i, std::span<const ga::Mot> fram
     }
   const ga::Blend mode = options_.blend == Blend::Log        ? ga::Blend::Log
                          : options_.blend == Blend::PivotLog ? ga::Blend::PivotLog
-                                                             : ga::Blend::Linear;
+                                                             : ga::Blend::DLB;
   return ga::blend(m, w, mode);
 }
 

@@ -557,7 +557,7 @@ void bind_rig_bind_cleanup(py::module_& m) {
         o.cleanup.max_iterations = max_iterations;
         o.cleanup.warm_start = warm_start;
         const std::shared_ptr<const GltfRig> rig = r.rig;
-        return make_rig_cleanup(r.skin->rest, r.skin->weights, r.skin->bones, o,
+        return make_rig_cleanup(r.skin->rest, r.skin->rig.weights, r.skin->rig.skeleton, o,
                                 [rig](Eigen::Index v) { return rig->vertex_label(v); });
       },
       py::arg("threshold") = def.pin_threshold, py::arg("margin") = def.pin_margin,

@@ -92,11 +92,11 @@ nlohmann::json SceneDeformer::report(const Pose& pose, const Eigen::MatrixXd& V_
 
 nlohmann::json SceneDeformer::bind_report() const { return bind_report_; }
 
-std::vector<int> skin_pins(const Mesh& rest, const SkinBinding& skin, double threshold, double margin) {
-  const Eigen::VectorXd margins = margin >= 0
-                                      ? Eigen::VectorXd::Constant(skin.weights.cols(), margin)
-                                      : default_pin_margins(rest.V, skin.weights, skin.bones, threshold);
-  const Eigen::VectorXi pins = pins_from_weights(rest.V, skin.weights, threshold, margins);
+std::vector<int> skin_pins(const Mesh& rest, const Rig& skin, double threshold, double margin) {
+  const Eigen::MatrixXd W(skin.weights);
+  const Eigen::VectorXd margins = margin >= 0 ? Eigen::VectorXd::Constant(W.cols(), margin)
+                                              : default_pin_margins(rest.V, W, skin.skeleton, threshold);
+  const Eigen::VectorXi pins = pins_from_weights(rest.V, W, threshold, margins);
   if (pins.size() == 0)
     throw Error("no vertex has a bone weight ≥ " + std::to_string(threshold) +
                 " far enough from a blended vertex (lower pin_threshold or pin_margin)");

@@ -145,8 +145,8 @@ std::unique_ptr<SceneDeformer> bind_skin(const Scene& s) {
   std::vector<Bone> bones;
   Eigen::MatrixXd rig_weights;
   if (s.rig) {
-    bones = s.rig->skin->bones;
-    rig_weights = Eigen::MatrixXd(s.rig->skin->weights);
+    bones = s.rig->skin->rig.skeleton;
+    rig_weights = Eigen::MatrixXd(s.rig->skin->rig.weights);
   } else {
     bones = scene_bones(s);
   }
@@ -184,7 +184,10 @@ std::unique_ptr<SceneDeformer> bind_skin(const Scene& s) {
           out[j] = ga::normalize(out[j] * rigid_joint_motor(T[j], bones[j].name, *pose.time));
       }
     };
-    SkinBinding binding{bones, W};
+    // The deformers bind through the deformer shape (deformer.hpp), the scene keeps the same rig.
+    auto rig = std::make_shared<Rig>();
+    rig->skeleton = bones;
+    rig->weights = W.sparseView();
     auto report = [n = bones.size()](const AnyDeformer&, std::span<const ga::Mot>, const Eigen::MatrixXd&) {
       return nlohmann::json{{"max_handle_error", nullptr}, {"skin", {{"bones", n}}}};
     };
@@ -198,9 +201,9 @@ std::unique_ptr<SceneDeformer> bind_skin(const Scene& s) {
       DeltaMushDeformer::Options mo;
       mo.blend = o.blend;
       mo.iterations = b.value("mush_iterations", mo.iterations);
-      auto d = std::make_unique<SceneDeformer>(s, DeltaMushDeformer::bind(s.mesh, bones, W, mo), report,
+      auto d = std::make_unique<SceneDeformer>(s, DeltaMushDeformer::bind(s.mesh, *rig, mo), report,
                                                rig_report(s), motors);
-      d->set_skin(std::move(binding));
+      d->set_skin(std::move(rig));
       return d;
     }
     if (mush == MushKind::Direct) {
@@ -208,14 +211,14 @@ std::unique_ptr<SceneDeformer> bind_skin(const Scene& s) {
         throw s.error("/deformer/blend", "Direct Delta Mush blends the bone matrices itself: remove `blend`");
       DirectDeltaMushDeformer::Options mo;
       mo.iterations = b.value("mush_iterations", mo.iterations);
-      auto d = std::make_unique<SceneDeformer>(s, DirectDeltaMushDeformer::bind(s.mesh, bones, W, mo), report,
+      auto d = std::make_unique<SceneDeformer>(s, DirectDeltaMushDeformer::bind(s.mesh, *rig, mo), report,
                                                rig_report(s), motors);
-      d->set_skin(std::move(binding));
+      d->set_skin(std::move(rig));
       return d;
     }
-    auto d = std::make_unique<SceneDeformer>(s, SkinDeformer::bind(s.mesh, bones, W, o), report,
-                                             rig_report(s), motors);
-    d->set_skin(std::move(binding));
+    auto d = std::make_unique<SceneDeformer>(s, SkinDeformer::bind(s.mesh, *rig, o), report, rig_report(s),
+                                             motors);
+    d->set_skin(std::move(rig));
     return d;
   } catch (const Error& e) {
     const std::string msg = e.what();

@@ -27,7 +27,7 @@ RigPoser::RigPoser(const GltfRig& rig, const RigPoseOptions& options)
     : rig_(rig), options_(checked(rig, options)), skinner_(rig, options.blend) {
   if (options_.cleanup == RigCleanupMode::None) return;
   const RigSkin& s = skinner_.skin();
-  cleanup_.emplace(RigCleanup::bind(s.rest, s.weights, s.bones, options_.cleanup_options,
+  cleanup_.emplace(RigCleanup::bind(s.rest, s.rig.weights, s.rig.skeleton, options_.cleanup_options,
                                     [&rig](Eigen::Index v) { return rig.vertex_label(v); }));
 }
 

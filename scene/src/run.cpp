@@ -86,7 +86,7 @@ SceneRunner::Impl::Impl(const Scene& s) : scene(s) {
         ro.pin_margin = scene.snap.pin_margin;
         o.pose_weight = scene.snap.pose_weight.value_or(ro.cleanup.pose_weight);
         ro.cleanup = o;
-        rig_cleaner.emplace(RigCleanup::bind(scene.mesh, d->skin()->weights, d->skin()->bones, ro));
+        rig_cleaner.emplace(RigCleanup::bind(scene.mesh, d->skin()->weights, d->skin()->skeleton, ro));
       } else {
         o.pose_weight = scene.snap.pose_weight.value_or(PinnedCleanupOptions{}.pose_weight);
         cleaner.emplace(PinnedCleanup::bind(scene.mesh, pins, o));

@@ -72,7 +72,7 @@ TEST_CASE("viewer rig session: a .glb opens as a skin scene posed by its animati
   // At t = 1 the skin deformer (default blend: DLB) poses exactly what it poses bound by hand.
   s.set_time(1.0);
   const GltfRig rig = read_gltf(f.file);
-  RigSkinner d(rig, SkinBlend::Linear);
+  RigSkinner d(rig, SkinBlend::DLB);
   Eigen::MatrixXd V;
   d.pose(0, 1.0, V);
   CHECK((s.posed() - V).cwiseAbs().maxCoeff() <= 1e-12);
@@ -165,7 +165,7 @@ TEST_CASE("viewer rig cleanup: the worker binds the rig cleanup through its door
   REQUIRE(skin);
   const GltfRig rig = read_gltf(f.file);
   const RigSkin rs = rig_skin(rig);
-  scene::RigCleanup door = scene::RigCleanup::bind(s.rest(), rs.weights, rs.bones);
+  scene::RigCleanup door = scene::RigCleanup::bind(s.rest(), rs.rig.weights, rs.rig.skeleton);
   CHECK(door.pins().size() > 100);
   SnapWorker w(s.rest());
   const Eigen::MatrixXd posed = s.posed();

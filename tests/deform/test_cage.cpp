@@ -130,7 +130,7 @@ TEST_CASE("cage deformer: rest pose, rigid motion in motor mode, position mode",
   const Eigen::Isometry3d iso = ga::to_isometry(R);
   const MatrixXd expected = (inner.V * iso.linear().transpose()).rowwise() + iso.translation().transpose();
   for (auto coords : {CageDeformer::Coordinates::MeanValue, CageDeformer::Coordinates::Harmonic}) {
-    for (auto blend : {ga::Blend::Log, ga::Blend::PivotLog, ga::Blend::Linear}) {
+    for (auto blend : {ga::Blend::Log, ga::Blend::PivotLog, ga::Blend::DLB}) {
       CageDeformer d = CageDeformer::bind(inner, cage, {coords, 24, CageDeformer::Mode::Motor, blend});
       MatrixXd V;
       d.pose(std::vector<ga::Mot>(d.controls().size(), ga::Mot(1, 0, 0, 0, 0, 0, 0, 0)), V);

@@ -41,7 +41,7 @@ ga::Mot screw(const Vector3d& axis, double degrees, const Vector3d& about, const
   return ga::motor(r, ga::translator(about + t - ga::rotate(r, about)));
 }
 
-const ga::Blend kModes[] = {ga::Blend::Log, ga::Blend::PivotLog, ga::Blend::Linear};
+const ga::Blend kModes[] = {ga::Blend::Log, ga::Blend::PivotLog, ga::Blend::DLB};
 const char* name(ga::Blend b) {
   return b == ga::Blend::Log ? "log" : b == ga::Blend::PivotLog ? "pivot-log" : "linear";
 }

@@ -201,7 +201,7 @@ TEST_CASE("option tables: every name parses back to its value, unknown names lis
   roundtrip(SkinBlend{});
   roundtrip(Alignment{});
   CHECK(option_values<ga::Blend>() == std::vector<std::string>{"log", "pivot-log", "dlb"});
-  CHECK(option_name(SkinBlend::Linear) == "dlb");
+  CHECK(option_name(SkinBlend::DLB) == "dlb");
   CHECK_THROWS_WITH(parse_option<ga::Blend>("lgo", "x: "),
                     "x: unknown blend 'lgo' (one of: log, pivot-log, dlb)");
   CHECK_THROWS_WITH(option_name(static_cast<ArapEnergy>(7)), Catch::Contains("energy: value 7 has no name"));

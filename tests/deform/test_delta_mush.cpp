@@ -112,9 +112,9 @@ TEST_CASE("delta mush: 0 iterations is LBS bit for bit, DDM with 0 iterations is
   dm.pose(frames, V);
   CHECK((V - V_lbs).cwiseAbs().maxCoeff() == 0.0);
   // over another blend too
-  SkinDeformer dlb = SkinDeformer::bind(m, bones, W, {SkinDeformer::Blend::Linear});
+  SkinDeformer dlb = SkinDeformer::bind(m, bones, W, {SkinDeformer::Blend::DLB});
   DeltaMushDeformer dm_dlb =
-      DeltaMushDeformer::bind(m, bones, W, {.iterations = 0, .blend = SkinDeformer::Blend::Linear});
+      DeltaMushDeformer::bind(m, bones, W, {.iterations = 0, .blend = SkinDeformer::Blend::DLB});
   MatrixXd V_dlb;
   dlb.pose(frames, V_dlb);
   dm_dlb.pose(frames, V);
@@ -368,7 +368,7 @@ TEST_CASE("delta mush: volume of a capsule arm bent 90 degrees and twisted 120 d
     lbs.pose(frames, V);
     r.lbs = volume(V, m.F) / v0;
     r.q_lbs = report(pose, "LBS", V);
-    SkinDeformer dlb = SkinDeformer::bind(m, bones, W, {SkinDeformer::Blend::Linear});
+    SkinDeformer dlb = SkinDeformer::bind(m, bones, W, {SkinDeformer::Blend::DLB});
     dlb.pose(frames, V);
     r.dlb = volume(V, m.F) / v0;
     report(pose, "DLB", V);
@@ -574,7 +574,7 @@ TEST_CASE("delta mush: bend 90 degrees for joint bands of 0.05 to 3 (printed tab
     SkinDeformer lbs = SkinDeformer::bind(m, bones, W, {SkinDeformer::Blend::LBS});
     lbs.pose(frames, V);
     rep("LBS");
-    SkinDeformer dlb = SkinDeformer::bind(m, bones, W, {SkinDeformer::Blend::Linear});
+    SkinDeformer dlb = SkinDeformer::bind(m, bones, W, {SkinDeformer::Blend::DLB});
     dlb.pose(frames, V);
     rep("DLB");
     DeltaMushDeformer dm = DeltaMushDeformer::bind(m, bones, W, {});
@@ -583,7 +583,7 @@ TEST_CASE("delta mush: bend 90 degrees for joint bands of 0.05 to 3 (printed tab
     DeltaMushDeformer dm2 = DeltaMushDeformer::bind(m, bones, W, {.iterations = 40});
     dm2.pose(frames, V);
     rep("DM k40");
-    DeltaMushDeformer dmq = DeltaMushDeformer::bind(m, bones, W, {.blend = SkinDeformer::Blend::Linear});
+    DeltaMushDeformer dmq = DeltaMushDeformer::bind(m, bones, W, {.blend = SkinDeformer::Blend::DLB});
     dmq.pose(frames, V);
     rep("DM/DLB");
     DirectDeltaMushDeformer ddm = DirectDeltaMushDeformer::bind(m, bones, W, {});

@@ -54,7 +54,7 @@ TEST_CASE("delta mush: pose allocates nothing from the second frame on (DM, DDM)
   const MatrixXd W = random_weights(m.V.rows(), 6, rng);
   const auto f1 = random_frames(bones, rng), f2 = random_frames(bones, rng);
   DeltaMushDeformer dm = DeltaMushDeformer::bind(m, bones, W, {});
-  DeltaMushDeformer dm_dlb = DeltaMushDeformer::bind(m, bones, W, {.blend = SkinDeformer::Blend::Linear});
+  DeltaMushDeformer dm_dlb = DeltaMushDeformer::bind(m, bones, W, {.blend = SkinDeformer::Blend::DLB});
   DirectDeltaMushDeformer ddm = DirectDeltaMushDeformer::bind(m, bones, W, {});
   MatrixXd V1, V2, V3;
   dm.pose(f1, V1);

@@ -45,7 +45,7 @@ TEST_CASE("FFD: the undeformed lattice reproduces the mesh", "[ffd]") {
   const Mesh m = test_mesh();
   for (auto basis : {FfdDeformer::Basis::Bezier, FfdDeformer::Basis::BSpline})
     for (auto mode : {FfdDeformer::Mode::Position, FfdDeformer::Mode::Motor})
-      for (auto blend : {ga::Blend::Log, ga::Blend::Linear}) {
+      for (auto blend : {ga::Blend::Log, ga::Blend::DLB}) {
         FfdDeformer d = FfdDeformer::bind(m, opts(basis, mode, {5, 4, 7}, blend));
         MatrixXd V;
         d.pose(identities(d.controls().size()), V);
@@ -134,7 +134,7 @@ TEST_CASE("FFD: the same rigid motion on every control moves the mesh rigidly", 
   const MatrixXd expected = (m.V * iso.linear().transpose()).rowwise() + iso.translation().transpose();
   for (auto basis : {FfdDeformer::Basis::Bezier, FfdDeformer::Basis::BSpline})
     for (auto mode : {FfdDeformer::Mode::Position, FfdDeformer::Mode::Motor})
-      for (auto blend : {ga::Blend::Log, ga::Blend::Linear}) {
+      for (auto blend : {ga::Blend::Log, ga::Blend::DLB}) {
         FfdDeformer d = FfdDeformer::bind(m, opts(basis, mode, {4, 6, 5}, blend));
         MatrixXd V;
         d.pose(std::vector<ga::Mot>(d.controls().size(), R), V);
@@ -162,7 +162,7 @@ TEST_CASE("FFD motor mode: the fast path equals ga::blend over the supporting co
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (auto basis : {FfdDeformer::Basis::Bezier, FfdDeformer::Basis::BSpline})
-    for (auto blend : {ga::Blend::Log, ga::Blend::Linear}) {
+    for (auto blend : {ga::Blend::Log, ga::Blend::DLB}) {
       FfdDeformer d = FfdDeformer::bind(m, opts(basis, FfdDeformer::Mode::Motor, {5, 5, 5}, blend));
       std::vector<ga::Mot> M(d.controls().size());
       for (auto& mo : M)

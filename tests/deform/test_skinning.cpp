@@ -83,7 +83,7 @@ std::vector<ga::Mot> random_frames(const std::vector<Bone>& bones, double max_de
   return frames;
 }
 
-const SkinDeformer::Blend kBlends[] = {SkinDeformer::Blend::LBS, SkinDeformer::Blend::Linear,
+const SkinDeformer::Blend kBlends[] = {SkinDeformer::Blend::LBS, SkinDeformer::Blend::DLB,
                                        SkinDeformer::Blend::Log, SkinDeformer::Blend::PivotLog};
 
 }  // namespace
@@ -173,7 +173,7 @@ TEST_CASE("skin: LBS and DLB equal their per-vertex definitions at every vertex,
   MatrixXd W_runs = 0.2 * W;
   for (Index i = 0; i < m.V.rows(); ++i) W_runs(i, (i / 300) % 6) = 1.0;
   for (const MatrixXd* weights : std::initializer_list<const MatrixXd*>{&W, &W_runs}) {
-    SkinDeformer d = SkinDeformer::bind(m, bones, *weights, {SkinDeformer::Blend::Linear});
+    SkinDeformer d = SkinDeformer::bind(m, bones, *weights, {SkinDeformer::Blend::DLB});
     MatrixXd V;
     d.pose(frames, V);
     double err = 0.0;

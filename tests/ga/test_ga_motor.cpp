@@ -313,7 +313,7 @@ TEST_CASE("blend: weight 1 reproduces, PivotLog is frame invariant, Linear survi
       w[k] = 1.0;
       CHECK(diff_up_to_sign(blend(m, w, Blend::Log), m[k]) < 1e-13);
       CHECK(max_abs(blend(m, w, Blend::PivotLog) - m[k]) < 1e-15);
-      CHECK(diff_up_to_sign(blend(m, w, Blend::Linear), m[k]) < 1e-15);
+      CHECK(diff_up_to_sign(blend(m, w, Blend::DLB), m[k]) < 1e-15);
     }
     // PivotLog: blend(A M_i B) = A blend(M_i) B
     std::array<double, 4> w{u(g), u(g), u(g), u(g)};
@@ -359,7 +359,7 @@ TEST_CASE("blend: weight 1 reproduces, PivotLog is frame invariant, Linear survi
     ds -= rs.dot(ds) * rs;  // make the dual part orthogonal to the real part
     r0.coeffs() = rs;
     d0.coeffs() = ds;
-    CHECK(max_abs(blend(m, w, Blend::Linear) - from_dual_quaternion(r0, d0)) < 1e-14);
+    CHECK(max_abs(blend(m, w, Blend::DLB) - from_dual_quaternion(r0, d0)) < 1e-14);
   }
   // Antipodal inputs: M and -M, and 180° rotations about opposite axes (the same motion, but on
   // opposite sides of the log's cut locus), never give NaN. Log averages the two logs ±(π/2) ẑ to a
@@ -368,7 +368,7 @@ TEST_CASE("blend: weight 1 reproduces, PivotLog is frame invariant, Linear survi
   const Mot mo = screw(Vector3d(0, 0, -1), kPi, Vector3d(1, 2, 3));
   const std::array<double, 2> half{0.5, 0.5};
   for (const auto& pair : {std::array<Mot, 2>{m, -m}, std::array<Mot, 2>{m, mo}}) {
-    for (Blend mode : {Blend::Linear, Blend::Log, Blend::PivotLog}) {
+    for (Blend mode : {Blend::DLB, Blend::Log, Blend::PivotLog}) {
       const Mot r = blend(pair, half, mode);
       INFO("mode " << int(mode) << " r = " << r);
       CHECK(std::isfinite(max_abs(r)));
@@ -383,9 +383,9 @@ TEST_CASE("blend: weight 1 reproduces, PivotLog is frame invariant, Linear survi
   const std::array<double, 1> one{1.0};
   CHECK_THROWS_AS(blend(two, one, Blend::Log), spinmotor::Error);
   const std::array<double, 2> cancel{1.0, -1.0};
-  CHECK_THROWS_AS(blend(two, cancel, Blend::Linear), spinmotor::Error);
+  CHECK_THROWS_AS(blend(two, cancel, Blend::DLB), spinmotor::Error);
   const std::array<double, 2> nan{0.5, std::nan("")};
-  for (Blend mode : {Blend::Linear, Blend::Log, Blend::PivotLog})
+  for (Blend mode : {Blend::DLB, Blend::Log, Blend::PivotLog})
     CHECK_THROWS_AS(blend(two, nan, mode), spinmotor::Error);
 }
 

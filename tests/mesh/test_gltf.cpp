@@ -257,7 +257,7 @@ TEST_CASE("gltf tiny rig: welding, per-corner UVs, renormalised weights, inverse
   CHECK((spinmotor::skin_positions(rig, -1, 0.0) - rig.mesh.V).cwiseAbs().maxCoeff() < 1e-15);
   // The bones at the bind pose: base at the origin, tip at (1, 0, 0); the rest pose is the bind pose.
   const spinmotor::RigSkin skin = spinmotor::rig_skin(rig);
-  CHECK(skin.bones[1].head.isApprox(Eigen::Vector3d(1, 0, 0)));
+  CHECK(skin.rig.skeleton[1].head.isApprox(Eigen::Vector3d(1, 0, 0)));
   CHECK(skin.bind[0].isApprox(Eigen::Matrix4d::Identity()));
   CHECK(spinmotor::gltf_bind_pose(rig).deviation < 1e-15);
 
@@ -370,7 +370,7 @@ TEST_CASE(
   CHECK(bp.joint == 1);
   CHECK(bp.deviation > 0.2);
   using B = spinmotor::SkinBlend;
-  for (B b : {B::LBS, B::Linear, B::Log, B::PivotLog}) {
+  for (B b : {B::LBS, B::DLB, B::Log, B::PivotLog}) {
     INFO("blend " << static_cast<int>(b));
     spinmotor::RigSkinner k(grown, b);
     Eigen::MatrixXd V;
@@ -469,7 +469,7 @@ TEST_CASE("gltf skinning of the tiny rig in closed form, matrices and every Skin
   CHECK(L.row(v_x1y1).isApprox(row(1 - c / 2, (1 + c) / 2, 0), 1e-7));
 
   using B = spinmotor::SkinDeformer::Blend;
-  for (B b : {B::LBS, B::Linear, B::Log, B::PivotLog}) {
+  for (B b : {B::LBS, B::DLB, B::Log, B::PivotLog}) {
     INFO("blend " << static_cast<int>(b));
     spinmotor::RigSkinner d(rig, b);
     Eigen::MatrixXd V;
@@ -942,12 +942,10 @@ TEST_CASE("gltf shared rigs: DLB, Log and PivotLog approach LBS to second order 
       for (const auto& k : K) out.push_back(spinmotor::ga::exp(eps * spinmotor::ga::log(k)));
       return out;
     };
-    spinmotor::SkinDeformer lbs =
-        spinmotor::SkinDeformer::bind(skin.rest, skin.bones, skin.weights, {.blend = B::LBS});
-    for (B b : {B::Linear, B::Log, B::PivotLog}) {
+    spinmotor::SkinDeformer lbs = spinmotor::SkinDeformer::bind(skin.rest, skin.rig, {.blend = B::LBS});
+    for (B b : {B::DLB, B::Log, B::PivotLog}) {
       INFO(file << " blend " << static_cast<int>(b));
-      spinmotor::SkinDeformer d =
-          spinmotor::SkinDeformer::bind(skin.rest, skin.bones, skin.weights, {.blend = b});
+      spinmotor::SkinDeformer d = spinmotor::SkinDeformer::bind(skin.rest, skin.rig, {.blend = b});
       double dist[3];
       const double eps[3] = {1.0, 0.1, 0.05};
       for (int k = 0; k < 3; ++k) {
@@ -1009,7 +1007,7 @@ TEST_CASE("spinmotor rig on CesiumMan: info numbers, a baked glb and the CLI cle
     spinmotor::scene::RigCleanupOptions o;
     o.cleanup.pose_weight = gamma;
     spinmotor::scene::RigCleanup rc =
-        spinmotor::scene::RigCleanup::bind(skin.rest, skin.weights, skin.bones, o);
+        spinmotor::scene::RigCleanup::bind(skin.rest, skin.rig.weights, skin.rig.skeleton, o);
     Eigen::MatrixXd E, V;
     spinmotor::RigSkinner(rig, spinmotor::SkinBlend::LBS).pose(0, 1.0, E);
     rc(E, V);

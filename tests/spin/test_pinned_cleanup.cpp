@@ -484,10 +484,10 @@ TEST_CASE("RigCleanup on CesiumMan: conformal, near the pose, volume kept (Cesiu
   const RigSkin skin = rig_skin(rig);
   Eigen::MatrixXd E;
   spinmotor::RigSkinner(rig, SkinBlend::LBS).pose(0, 1.0, E);
-  RigCleanup rc = RigCleanup::bind(skin.rest, skin.weights, skin.bones);
+  RigCleanup rc = RigCleanup::bind(skin.rest, skin.rig.weights, skin.rig.skeleton);
   RigCleanupOptions pins_only;
   pins_only.cleanup.pose_weight = 0;
-  RigCleanup rc0 = RigCleanup::bind(skin.rest, skin.weights, skin.bones, pins_only);
+  RigCleanup rc0 = RigCleanup::bind(skin.rest, skin.rig.weights, skin.rig.skeleton, pins_only);
   Eigen::MatrixXd V, V0;
   rc(E, V);
   rc0(E, V0);

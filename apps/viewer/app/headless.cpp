@@ -244,7 +244,7 @@ int play_animation(const Args& a, Session& s, render::MeshRenderer& renderer, co
   const auto [t0, t1] = s.animation_range();
   std::unique_ptr<SnapWorker> cleaner;
   std::vector<int> pins;
-  std::shared_ptr<const scene::SkinBinding> skin;
+  std::shared_ptr<const spinmotor::Rig> skin;
   if (a.snap && a.keep_pose)
     cleaner = std::make_unique<SnapWorker>(s.rest()), pins = s.cleanup_pins(), skin = s.cleanup_skin();
   FrameSamples pose_ms, draw_ms;

@@ -105,7 +105,7 @@ void Viewer::request_snap() {
 void Viewer::snap_now() {
   if (!snapper) return;
   std::vector<int> pins;
-  std::shared_ptr<const scene::SkinBinding> skin;
+  std::shared_ptr<const spinmotor::Rig> skin;
   if (keep_pose) pins = session.cleanup_pins(), skin = session.cleanup_skin();
   if (skin)
     snapper->request_rig(session.posed(), std::move(skin));

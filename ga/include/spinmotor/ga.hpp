@@ -7,7 +7,7 @@
 //   ga/quaternion.hpp    Quat = Rot, Eigen::Quaterniond conversions
 //   ga/constructors.hpp  up down rotor translator motor plane line sphere                 (§II.B)
 //   ga/motor.hpp         normalize exp log sqrt sclerp                                     (§II.B.1-2)
-//   ga/blend.hpp         blend(motors, weights, Blend::{Log, PivotLog, Linear})          (§II.B.2)
+//   ga/blend.hpp         blend(motors, weights, Blend::{Log, PivotLog, DLB})          (§II.B.2)
 //   ga/interop.hpp       from_isometry to_isometry transform, dual quaternions
 //
 // Interop surface (names relied upon by the other modules and the tests):

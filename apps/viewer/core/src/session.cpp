@@ -22,10 +22,10 @@ std::string lower(std::string s) {
 }
 
 /// Index of the skin bone called `name`, or −1.
-int bone_index(const scene::SkinBinding* skin, const std::string& name) {
+int bone_index(const spinmotor::Rig* skin, const std::string& name) {
   if (!skin) return -1;
-  for (std::size_t j = 0; j < skin->bones.size(); ++j)
-    if (skin->bones[j].name == name) return int(j);
+  for (std::size_t j = 0; j < skin->skeleton.size(); ++j)
+    if (skin->skeleton[j].name == name) return int(j);
   return -1;
 }
 
@@ -169,7 +169,7 @@ std::optional<Eigen::Vector3d> Session::posed_anchor(const std::string& name) co
   if (const int j = bone_index(deformer_ ? deformer_->skin() : nullptr, name); j >= 0) {
     std::vector<ga::Mot> m;
     deformer_->motors(pose_, m);
-    return ga::to_isometry(ga::normalize(m[j] * ga::reverse(deformer_->skin()->bones[j].rest))) * *a;
+    return ga::to_isometry(ga::normalize(m[j] * ga::reverse(deformer_->skin()->skeleton[j].rest))) * *a;
   }
   return ga::to_isometry(pose_.motor(name)) * *a;
 }
@@ -203,13 +203,13 @@ void Session::set_animation(int index) {
 }
 
 std::vector<PosedBone> Session::posed_bones() {
-  const scene::SkinBinding* skin = deformer_ ? deformer_->skin() : nullptr;
+  const spinmotor::Rig* skin = deformer_ ? deformer_->skin() : nullptr;
   if (!skin) return {};
   std::vector<ga::Mot> m;
   deformer_->motors(pose_, m);
   std::vector<PosedBone> out;
-  for (std::size_t j = 0; j < skin->bones.size(); ++j) {
-    const Bone& b = skin->bones[j];
+  for (std::size_t j = 0; j < skin->skeleton.size(); ++j) {
+    const Bone& b = skin->skeleton[j];
     const Eigen::Isometry3d k = ga::to_isometry(ga::normalize(m[j] * ga::reverse(b.rest)));
     out.push_back({b.name, b.parent, k * b.head, k * b.tail});
   }
@@ -220,17 +220,17 @@ std::vector<int> Session::cleanup_pins() {
   return scene_->handles.empty() ? std::vector<int>{} : handle_vertices();
 }
 
-std::shared_ptr<const scene::SkinBinding> Session::cleanup_skin() const {
+std::shared_ptr<const spinmotor::Rig> Session::cleanup_skin() const {
   if (!scene_->handles.empty() || !deformer_) return nullptr;
   return deformer_->shared_skin();
 }
 
 ga::Mot Session::drag_start_motor(const std::string& name) const {
-  const scene::SkinBinding* skin = deformer_ ? deformer_->skin() : nullptr;
+  const spinmotor::Rig* skin = deformer_ ? deformer_->skin() : nullptr;
   const int j = bone_index(skin, name);
   if (j < 0 || pose_.motors.count(name)) return pose_.motor(name);
-  for (int p = skin->bones[j].parent; p >= 0; p = skin->bones[p].parent)
-    if (pose_.motors.count(skin->bones[p].name)) return pose_.motor(skin->bones[p].name);
+  for (int p = skin->skeleton[j].parent; p >= 0; p = skin->skeleton[p].parent)
+    if (pose_.motors.count(skin->skeleton[p].name)) return pose_.motor(skin->skeleton[p].name);
   return pose_.motor(name);
 }
 

@@ -20,7 +20,7 @@ struct Bound {
   std::shared_ptr<PinnedCleanup> pinned;  // handles pinned
   std::vector<int> pins;
   std::shared_ptr<scene::RigCleanup> rig;  // a skin's rig cleanup
-  std::shared_ptr<const scene::SkinBinding> skin;
+  std::shared_ptr<const spinmotor::Rig> skin;
 };
 
 void run_job(const Mesh& rest, Bound& b, SnapJob& job, SnapOutcome& out) {
@@ -32,7 +32,7 @@ void run_job(const Mesh& rest, Bound& b, SnapJob& job, SnapOutcome& out) {
   if (job.skin) {  // the rig cleanup, bound once per skin
     if (!b.rig || b.skin != job.skin) {
       b.rig = std::make_shared<scene::RigCleanup>(
-          scene::RigCleanup::bind(rest, job.skin->weights, job.skin->bones));
+          scene::RigCleanup::bind(rest, job.skin->weights, job.skin->skeleton));
       b.skin = job.skin;
       out.bind_ms = b.rig->bind_ms();
     }

@@ -8,7 +8,7 @@
 //
 //   parse_option<Blend>("pivot-log")   -> Blend::PivotLog
 //   parse_option<Blend>("lgo")         -> Error "unknown blend 'lgo' (one of: log, pivot-log, dlb)"
-//   option_name(Blend::Linear)         -> "dlb"
+//   option_name(Blend::DLB)         -> "dlb"
 //   option_values<Blend>()             -> {"log", "pivot-log", "dlb"} (the schema's enum)
 //
 // Defaults are not here: they are the member initialisers of each Options struct.

@@ -20,12 +20,12 @@
 //   Position  (classic FFD, eq. 8) p' = Σ w_c P'_c. pose(motors) moves each control point,
 //             P'_c = M_c P_c ~M_c; pose_points() takes the control points directly. An affine map of
 //             the controls maps the points by the same affine map (Σ w_c = 1 and linear precision).
-//   Motor     M_i = blend(R_c; w_i) (Log: exp(Σ w_c log R_c), the paper's; Linear: DLB with signs
+//   Motor     M_i = blend(R_c; w_i) (Log: exp(Σ w_c log R_c), the paper's; DLB: with signs
 //             relative to the heaviest control), p' = M_i p ~M_i: rotating controls bends and twists
 //             instead of shearing. A rigid motion on every control moves the mesh rigidly. PivotLog is
 //             not offered (it needs a relative logarithm per pair of controls in a vertex's support).
 // Vertices outside the box are left unchanged (weight rows empty) and counted: outside().
-// pose(): per frame L logarithms (Log), L motors (Linear) or L control points (Position); then per
+// pose(): per frame L logarithms (Log), L motors (DLB) or L control points (Position); then per
 //   vertex the tensor contraction over the (d+1)³ supporting controls (the log sums in 8-lane
 //   registers), one exponential and one point transform, parallel over vertices, no allocation.
 #include <Eigen/Core>
@@ -52,7 +52,7 @@ class FfdDeformer {
     Basis basis = Basis::Bezier;
     int degree = 3;  ///< BSpline degree (≥ 1; capped at lattice − 1 per axis); ignored for Bezier
     Mode mode = Mode::Motor;
-    ga::Blend blend = ga::Blend::Log;  ///< Motor mode: Log or Linear (DLB)
+    ga::Blend blend = ga::Blend::Log;  ///< Motor mode: Log or DLB
     /// Lattice box; default: the bounding box of the mesh grown by `margin` × its size on every side
     /// (a flat axis gets margin × the largest size).
     std::optional<Eigen::AlignedBox3d> box;
@@ -63,7 +63,7 @@ class FfdDeformer {
 
   /// Inputs: the rest mesh (only V is read; n ≥ 1 finite vertices). Throws Error for a lattice size
   /// < 2 or above 256 per axis, a degree < 1, an empty, inverted or non-finite box, PivotLog, or a
-  /// Linear blend with more than 2048 controls (its sign table is L² doubles).
+  /// DLB blend with more than 2048 controls (its sign table is L² doubles).
   static FfdDeformer bind(const Mesh& rest, const Options& options);
   static FfdDeformer bind(const Eigen::MatrixXd& V_rest, const Options& options);
   /// The deformer shape (deformer.hpp): the lattice is an option, the rig is not read.
@@ -108,12 +108,12 @@ class FfdDeformer {
   std::vector<std::array<int, 3>> start_;  // first non-zero basis index per axis
   std::vector<double> basis_;              // per vertex: order_[0] + order_[1] + order_[2] values
   std::vector<unsigned char> inside_;
-  std::vector<int> pivot_;  // Linear: heaviest control
+  std::vector<int> pivot_;  // DLB: heaviest control
   Eigen::Index outside_ = 0;
   // per-pose scratch
-  std::vector<Eigen::Array<double, 8, 1>> lanes_;  // Log: logs (6 + 2 zero pads); Linear: motors
+  std::vector<Eigen::Array<double, 8, 1>> lanes_;  // Log: logs (6 + 2 zero pads); DLB: motors
   std::vector<Eigen::Array4d> points4_;            // Position: control points (x, y, z, 0)
-  std::vector<double> signs_;                      // Linear: L², sign <R_c ~R_p>_0
+  std::vector<double> signs_;                      // DLB: L², sign <R_c ~R_p>_0
   std::vector<ga::Mot> motors_;
   Eigen::MatrixXd points_;
 };

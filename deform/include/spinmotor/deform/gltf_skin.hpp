@@ -47,13 +47,13 @@ Eigen::MatrixXd skin_positions(const GltfRig& rig, int anim, double t);
 struct RigSkin {
   /// The rest surface (header comment): positions in scene coordinates, rig.mesh's faces and UVs.
   Mesh rest;
-  /// J bones in the joints' order: unique names (empty or repeated names get "#<j>" appended),
-  /// parent = rig.joint_parents, identity rest frames, head = the joint's origin at the bind pose
-  /// (B_s IBM_j⁻¹), tail = the first child joint's head (or, for a leaf or a child at the same point,
-  /// head + the joint's y axis × its parent's bone length, else 10% of the rest surface's diagonal).
-  std::vector<Bone> bones;
-  Eigen::SparseMatrix<double> weights;  ///< n×J, rig.weights
-  std::vector<Eigen::Matrix4d> bind;    ///< B_s per skin
+  /// What the skin deformers bind to (deformer.hpp): rig.skeleton, J bones in the joints' order with
+  /// unique names (empty or repeated names get "#<j>" appended), parent = the file's joint_parents,
+  /// identity rest frames, head = the joint's origin at the bind pose (B_s IBM_j⁻¹), tail = the first
+  /// child joint's head (or, for a leaf or a child at the same point, head + the joint's y axis × its
+  /// parent's bone length, else 10% of the rest surface's diagonal); rig.weights n×J, the file's.
+  Rig rig;
+  std::vector<Eigen::Matrix4d> bind;  ///< B_s per skin
   std::vector<Eigen::Matrix4d> bind_inverse;
   /// Per piece, its morph targets in scene coordinates (B_s's linear part applied): T_p fields of
   /// the piece's vertices × 3.

@@ -15,10 +15,10 @@
 // Blends of the ≤ 4 motions K_j of a vertex, weights w_j (slot 0 holds the largest weight: the pivot):
 //   LBS       p' = (Σ w_j T_j) p with T_j the 3×4 matrix of K_j (linear blend skinning; collapses under
 //             twist, the "candy wrapper").
-//   Linear    DLB (Kavan et al. 2008): normalize(Σ s_j w_j K_j), s_j = sign <K_j ~K_pivot>_0.
-//   Log       exp(Σ w_j log K_j) (CGA paper eq. 1).
-//   PivotLog  exp(Σ w_j log(K_j ~K_pivot)) K_pivot.
-// pose(): per frame B matrices (LBS), B logs (Log), B² signs (Linear) or B² relative logs (PivotLog);
+//   DLB       dual-quaternion linear blending (Kavan et al. 2008): normalize(Σ s_j w_j K_j), s_j = sign <K_j
+//   ~K_pivot>_0. Log       exp(Σ w_j log K_j) (CGA paper eq. 1). PivotLog  exp(Σ w_j log(K_j ~K_pivot))
+//   K_pivot.
+// pose(): per frame B matrices (LBS), B logs (Log), B² signs (DLB) or B² relative logs (PivotLog);
 //   then per vertex its weighted terms, one normalization / exponential and one point transform, parallel
 //   over vertices, no allocation.
 // Affine bone transforms (pose_affine, for rigs whose joints scale: glTF's joint matrices). LBS blends
@@ -71,10 +71,10 @@ Eigen::MatrixXd read_skin_weights(const std::filesystem::path& path, std::span<c
                                   Eigen::Index n);
 
 /// The skinning blends: the motor blends of ga::Blend (same order) and linear blend skinning.
-enum class SkinBlend { Log, PivotLog, Linear, LBS };
+enum class SkinBlend { Log, PivotLog, DLB, LBS };
 inline constexpr OptionNames<SkinBlend, 4> kSkinBlendNames{"blend",
                                                            {{{SkinBlend::LBS, "lbs"},
-                                                             {SkinBlend::Linear, "dlb"},
+                                                             {SkinBlend::DLB, "dlb"},
                                                              {SkinBlend::Log, "log"},
                                                              {SkinBlend::PivotLog, "pivot-log"}}}};
 constexpr const auto& option_names(SkinBlend) { return kSkinBlendNames; }
@@ -84,7 +84,7 @@ class SkinDeformer {
   using Blend = SkinBlend;
 
   struct Options {
-    Blend blend = Blend::Linear;
+    Blend blend = Blend::DLB;
     /// Influences kept per vertex (the largest; 0 = all). Log and PivotLog keep at most 4.
     int max_influences = 4;
   };
@@ -115,7 +115,7 @@ class SkinDeformer {
   const std::vector<Control>& controls() const { return controls_; }
   /// The kept weights as an n×B sparse matrix (≤ max_influences per row, rows sum to 1).
   Eigen::SparseMatrix<double> weights() const;
-  /// The motor of vertex i for the given frames (Linear / Log / PivotLog: ga::blend reference path).
+  /// The motor of vertex i for the given frames (DLB / Log / PivotLog: ga::blend reference path).
   ga::Mot vertex_motor(Eigen::Index i, std::span<const ga::Mot> frames) const;
   const Options& options() const { return options_; }
 
@@ -156,7 +156,7 @@ class SkinDeformer {
   std::vector<ga::Mot> motions_;                       // K_j
   std::vector<Eigen::Matrix<double, 3, 4>> matrices_;  // LBS
   std::vector<ga::Dll> logs_;                          // Log: B; PivotLog: B²
-  std::vector<double> signs_;                          // Linear: B²
+  std::vector<double> signs_;                          // DLB: B²
   std::vector<Eigen::Matrix<double, 3, 4>> stretch_;   // pose_affine: the stretches S_j
   Eigen::MatrixXd stretched_;                          // pose_affine: the points after the stretch phase
 };

@@ -3,19 +3,19 @@
 //
 //   Blend::Log       exp(Σ w_i log M_i)                                   (the paper's blend)
 //   Blend::PivotLog  exp(Σ w_i log(M_i ~M_p)) M_p, p = argmax w_i: invariant to M_i -> A M_i B
-//   Blend::Linear    normalize(Σ w_i s_i M_i), s_i = sign <M_p ~M_i>_0: dual-quaternion linear blending
+//   Blend::DLB    normalize(Σ w_i s_i M_i), s_i = sign <M_p ~M_i>_0: dual-quaternion linear blending
 //                    (DLB, Kavan et al.) written for motors
 //   blend_logs       exp(Σ w_i B_i) from logs computed once (many vertices, few shared motors)
 //
 // Log depends on the frame and on where the logs' cut locus lies: two motors that both rotate by
 // nearly 180° about ±n (nearly the same motion) have logs ±(π/2) n, which average to no rotation.
 // PivotLog blends in the frame of the heaviest motor (its logs are small when the motors are close)
-// and Linear aligns signs; both are continuous there.
+// and DLB aligns signs; both are continuous there.
 //
 // Inputs: n unit motors and n weights (n ≥ 1; weights are used as given, normally a partition of
 // unity). Output: a unit motor. No heap; meant for per-vertex loops. Throws spinmotor::Error (BadInput) on
 // mismatched or empty spans, a non-finite weight or motor, on a motor with a zero
-// rotor part, and when a Linear blend cancels (only possible with negative weights).
+// rotor part, and when a DLB blend cancels (only possible with negative weights).
 #include <cstddef>
 #include <span>
 
@@ -25,9 +25,9 @@
 
 namespace spinmotor::ga {
 
-enum class Blend { Log, PivotLog, Linear };
+enum class Blend { Log, PivotLog, DLB };
 inline constexpr OptionNames<Blend, 3> kBlendNames{
-    "blend", {{{Blend::Log, "log"}, {Blend::PivotLog, "pivot-log"}, {Blend::Linear, "dlb"}}}};
+    "blend", {{{Blend::Log, "log"}, {Blend::PivotLog, "pivot-log"}, {Blend::DLB, "dlb"}}}};
 constexpr const auto& option_names(Blend) { return kBlendNames; }
 
 namespace detail {

@@ -26,13 +26,6 @@
 
 namespace spinmotor::scene {
 
-/// What a skin deformer was bound with: the pins of the pose-keeping cleanup come from its weights
-/// (snap "pins": "weights"; the viewer's rig cleanup), and the viewer draws its bones.
-struct SkinBinding {
-  std::vector<Bone> bones;  ///< the skeleton (a rig's: rig_skin's bones, identity rest frames)
-  Eigen::MatrixXd weights;  ///< n×B as given to the deformer (rows not necessarily normalised)
-};
-
 /// A bound deformer of a scene: the library deformer and the scene's view of it.
 class SceneDeformer {
  public:
@@ -61,10 +54,13 @@ class SceneDeformer {
   /// after inheritance, and for a rig the animation at pose.time with the edits on top).
   void motors(const Pose& pose, std::vector<ga::Mot>& out) const;
   /// The skin's bones and weights (skin deformers only, else null).
-  const SkinBinding* skin() const { return skin_.get(); }
+  /// A skin deformer's rig (deformer.hpp: skeleton and weights, as it was bound with): the pins of the
+  /// pose-keeping cleanup come from its weights (snap "pins": "weights"; the viewer's rig cleanup), and
+  /// the viewer draws its bones. Null for other deformers.
+  const Rig* skin() const { return skin_.get(); }
   /// The same, shared (a worker thread that binds the rig cleanup keeps it).
-  std::shared_ptr<const SkinBinding> shared_skin() const { return skin_; }
-  void set_skin(SkinBinding skin) { skin_ = std::make_shared<const SkinBinding>(std::move(skin)); }
+  std::shared_ptr<const Rig> shared_skin() const { return skin_; }
+  void set_skin(std::shared_ptr<const Rig> skin) { skin_ = std::move(skin); }
   /// Per-frame figures merged into the metrics JSON, at least "max_handle_error" (max distance of a
   /// handle vertex from where its own motor takes it; null when the deformer has no such notion).
   nlohmann::json report(const Pose& pose, const Eigen::MatrixXd& V_out) const;
@@ -78,13 +74,13 @@ class SceneDeformer {
   nlohmann::json bind_report_;
   Motors motors_of_;
   std::vector<ga::Mot> motors_;
-  std::shared_ptr<const SkinBinding> skin_;
+  std::shared_ptr<const Rig> skin_;
 };
 
 /// The pins of the pose-keeping cleanup of a skinned pose (deform/rig_pins.hpp): the vertices whose
 /// largest weight is ≥ threshold and that lie farther than `margin` from every blended vertex
 /// (margin < 0: per bone, default_pin_margins). Increasing. Throws Error when there is none.
-std::vector<int> skin_pins(const Mesh& rest, const SkinBinding& skin, double threshold, double margin);
+std::vector<int> skin_pins(const Mesh& rest, const Rig& skin, double threshold, double margin);
 
 /// The value of the option `key` of the scene's deformer block, parsed by its name table, or
 /// `fallback` (the library Options' default) when the key is absent. An unknown name throws the

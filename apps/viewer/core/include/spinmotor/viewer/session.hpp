@@ -119,7 +119,7 @@ class Session {
   std::vector<int> cleanup_pins();
   /// For a skin scene without handles, the skin the rig cleanup binds to (scene/rig_cleanup.hpp: pins and
   /// attraction from its weights, the rig defaults); null otherwise.
-  std::shared_ptr<const scene::SkinBinding> cleanup_skin() const;
+  std::shared_ptr<const spinmotor::Rig> cleanup_skin() const;
   /// The motor a gizmo drag of `name` starts from: its pose entry, or for a skin bone without one the
   /// motion it inherits from its nearest posed ancestor (what pose() applies to it).
   ga::Mot drag_start_motor(const std::string& name) const;

@@ -36,7 +36,7 @@ struct SnapJob {
   double tradeoff = 1.0;   ///< ∈ [0, 1] (free snap)
   std::vector<int> pins;   ///< non-empty: the pose-keeping cleanup with these vertices pinned
   /// Set: the rig cleanup of a skin (scene/rig_cleanup.hpp, the rig defaults), bound once per skin.
-  std::shared_ptr<const scene::SkinBinding> skin;
+  std::shared_ptr<const spinmotor::Rig> skin;
 };
 
 class SnapWorker : public LatestJobWorker<SnapJob, SnapOutcome> {
@@ -58,7 +58,7 @@ class SnapWorker : public LatestJobWorker<SnapJob, SnapOutcome> {
   /// Queues the rig cleanup of a skinned pose (the one door, scene/rig_cleanup.hpp, with the rig defaults:
   /// pins and attraction from the skin's weights, every piece on its own). The worker rebinds when the
   /// skin changes.
-  std::uint64_t request_rig(Eigen::MatrixXd V_edit, std::shared_ptr<const scene::SkinBinding> skin) {
+  std::uint64_t request_rig(Eigen::MatrixXd V_edit, std::shared_ptr<const spinmotor::Rig> skin) {
     return request(SnapJob{std::move(V_edit), 1.0, {}, std::move(skin)});
   }
 };
